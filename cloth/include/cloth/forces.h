@@ -1,0 +1,42 @@
+#pragma once
+// Spring force and Jacobian kernels (Kang & Cho eqs. 15-17), and the energies they derive from.
+// Pure functions of their arguments; the step loops over springs and calls them.
+
+#include <cmath>
+
+#include "cloth/model.h"
+
+namespace cloth {
+
+// Below this length a spring has no defined direction: force and Jacobian are zero.
+constexpr Scalar kMinSpringLength = 1e-12;
+
+// Eq. 15: force on particle i from spring (i, j): f_i = k (L - l0) u, u = (x_j - x_i) / L.
+inline Vec3 springForce(const Vec3& xi, const Vec3& xj, Scalar k, Scalar rest) {
+    const Vec3 d = xj - xi;
+    const Scalar L = d.norm();
+    if (L < kMinSpringLength) return Vec3::Zero();
+    return k * (L - rest) / L * d;
+}
+
+// E = k/2 (L - l0)^2, so that springForce = -dE/dx_i.
+inline Scalar springEnergy(const Vec3& xi, const Vec3& xj, Scalar k, Scalar rest) {
+    const Scalar s = (xj - xi).norm() - rest;
+    return Scalar(0.5) * k * s * s;
+}
+
+// Eq. 16: J_ij = df_i/dx_j = k [ (1 - l0/L) I + (l0/L) u u^T ]; J_ii = -sum_j J_ij.
+// Eq. 17 (compressionRule): under compression (L < l0) use l0 := L in the Jacobian only, giving
+// J_ij = k u u^T, which is positive semi-definite.
+inline Mat3 springJacobian(const Vec3& xi, const Vec3& xj, Scalar k, Scalar rest,
+                           bool compressionRule) {
+    const Vec3 d = xj - xi;
+    const Scalar L = d.norm();
+    if (L < kMinSpringLength) return Mat3::Zero();
+    const Vec3 u = d / L;
+    Scalar ratio = rest / L;
+    if (compressionRule && ratio > 1) ratio = 1;
+    return k * ((1 - ratio) * Mat3::Identity() + ratio * (u * u.transpose()));
+}
+
+}  // namespace cloth

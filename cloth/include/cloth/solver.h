@@ -1,0 +1,84 @@
+#pragma once
+// Solvers behind one small interface, chosen by name with parameters:
+//   kangcho   the paper: Jacobi iterations of the linearized backward Euler system
+//             (iterations=1 by default, any k >= 0; compression=on|off for eq. 17)
+//   exact     the same system solved to a relative residual of 1e-10 (sparse Cholesky);
+//             method=cg solves it with conjugate gradients (tolerance=, max_iterations=)
+//   cg        alias of exact with method=cg
+//   explicit  symplectic Euler with substeps=N
+// A step never throws and never hands back a non-finite state: on failure the state is left as
+// it was before the step and the status says why.
+
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "cloth/system.h"
+
+namespace cloth {
+
+struct SolverConfig {
+    std::string name = "kangcho";
+    int iterations = 1;            // kangcho: Jacobi iterations after dv(0)
+    bool compressionRule = true;   // eq. 17 in the Jacobian
+    bool useCG = false;            // exact: conjugate gradients instead of Cholesky
+    Scalar tolerance = 1e-10;      // exact/cg: relative residual
+    int maxIterations = 10000;     // cg
+    int substeps = 1;              // explicit
+    std::string describe() const;  // "kangcho:iterations=1,compression=on"
+};
+
+// Parses "name[:key=value[,key=value...]]". Returns false and sets *error (naming the key and
+// value) on an unknown name, unknown key or bad value.
+bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* error);
+// Checks a config's ranges; returns an empty string when valid, else what is wrong.
+std::string validate(const SolverConfig& config);
+
+enum class StepStatus { Ok, NonFinite, SolverFailed };
+const char* toString(StepStatus status);
+
+struct StepResult {
+    StepStatus status = StepStatus::Ok;
+    Index badParticle = -1;  // first particle with a non-finite position or velocity
+    int iterations = 0;      // solver iterations used (CG, Jacobi)
+    Scalar residual = 0;     // relative residual of the linear solve, where known
+};
+
+// Milliseconds spent in each phase of the last step.
+struct StepProfile {
+    double forcesMs = 0;     // forces and Jacobian blocks
+    double solveMs = 0;      // the linear solve (or explicit substeps)
+    double integrateMs = 0;  // update of x and v, pins, finiteness check
+};
+
+class Solver {
+public:
+    virtual ~Solver() = default;
+    virtual StepResult step(const Model& model, const Environment& env, State& state,
+                            const StepInput& input) = 0;
+    const SolverConfig& config() const { return config_; }
+    const StepProfile& profile() const { return profile_; }
+    // dv of the last step (implicit solvers), for solve-error diagnostics.
+    const Points& lastDv() const { return dv_; }
+
+    explicit Solver(SolverConfig config) : config_(std::move(config)) {}
+
+protected:
+    SolverConfig config_;
+    StepProfile profile_;
+    Points dv_;
+};
+
+// Returns null and sets *error for an invalid config.
+std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* error = nullptr);
+
+// The exact solution of the system (Cholesky, refined to a relative residual <= 1e-10).
+// Returns false when the factorization fails.
+bool solveExact(const Model& model, const LinearSystem& sys, Points& dv, Scalar* residual = nullptr);
+
+// One Jacobi sweep: dvNext_i = W_ii^-1 (b_i + h^2 sum_j J_ij dv_j); pinned stay prescribed.
+void jacobiSweep(const Model& model, const LinearSystem& sys, const Points& dv, Points& dvNext);
+// dv(0)_i = W_ii^-1 b_i (eq. 11, k = 0); pinned get their prescribed dv.
+void jacobiStart(const LinearSystem& sys, Points& dv);
+
+}  // namespace cloth

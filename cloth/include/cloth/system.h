@@ -1,0 +1,64 @@
+#pragma once
+// The linearized backward Euler system of one step (Kang & Cho eqs. 1-7, 12), with pinned
+// particles eliminated. Every solver in this library reads the same system, so "the same cloth,
+// same masses, same pins" holds by construction.
+//
+//   (M + h C - h^2 J) dv = h f + h^2 J v            (C: linear drag, -df/dv)
+// Rows of pinned particles become dv_p = prescribed; their columns move to the right-hand side.
+
+#include <Eigen/SparseCore>
+#include <span>
+#include <vector>
+
+#include "cloth/model.h"
+
+namespace cloth {
+
+struct Environment {
+    Vec3 gravity = Vec3(0, -9.81, 0);  // m/s^2
+    Scalar drag = 0;                   // linear drag rate, 1/s: f_i = -drag m_i v_i (implicit)
+};
+
+// A particle pinned to a target the caller moves: at the end of the step the particle sits
+// exactly at x with velocity v.
+struct Pin {
+    Index particle = 0;
+    Vec3 x = Vec3::Zero();
+    Vec3 v = Vec3::Zero();
+};
+
+struct StepInput {
+    Scalar h = Scalar(1) / 60;
+    std::span<const Pin> pins;
+    const Points* externalForce = nullptr;  // explicit per-particle forces (air), or null
+};
+
+// Gravity, drag, springs (eq. 15) and the external force, summed into f (3 x n).
+void computeForces(const Model& model, const Environment& env, const State& state,
+                   const Points* externalForce, Points& f);
+
+struct LinearSystem {
+    Scalar h = 0;
+    std::vector<Mat3> springJ;   // J_ij per spring (eqs. 16, 17)
+    std::vector<Mat3> diag;      // W_ii = m_i (1 + h c) I + h^2 sum_j J_ij (eq. 12); I if pinned
+    std::vector<Mat3> diagInv;   // W_ii^-1
+    Points force;                // f at the current state
+    Points rhs;                  // b_i = h f_i + h^2 sum_j J_ij (v_j - v_i) + h^2 sum_{j pinned} J_ij dv_j
+    std::vector<std::uint8_t> pinned;
+    Points pinDv;                // prescribed dv of pinned particles, zero elsewhere
+};
+
+// Builds the system at `state`. Pins with out-of-range particle indices are ignored.
+void buildSystem(const Model& model, const Environment& env, const State& state,
+                 const StepInput& input, bool compressionRule, LinearSystem& sys);
+
+// y_i = h^2 sum_{j free} J_ij x_j for free i; zero for pinned i. (The off-diagonal part of -W.)
+void applyOffDiagonal(const Model& model, const LinearSystem& sys, const Points& x, Points& y);
+
+// W as a sparse symmetric 3n x 3n matrix (pinned rows and columns are identity).
+Eigen::SparseMatrix<Scalar> assembleMatrix(const Model& model, const LinearSystem& sys);
+
+// Relative residual |W dv - b| / |b| (b with pinned entries set to their prescribed dv).
+Scalar relativeResidual(const Model& model, const LinearSystem& sys, const Points& dv);
+
+}  // namespace cloth

@@ -1,0 +1,322 @@
+#include "cloth/solver.h"
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "cloth/diagnostics.h"
+
+namespace cloth {
+
+// ---------------------------------------------------------------------------------------------
+// Configuration
+
+std::string SolverConfig::describe() const {
+    std::ostringstream s;
+    s << name;
+    if (name == "kangcho")
+        s << ":iterations=" << iterations << ",compression=" << (compressionRule ? "on" : "off");
+    else if (name == "exact" || name == "cg")
+        s << ":method=" << (useCG ? "cg" : "cholesky") << ",tolerance=" << tolerance
+          << (useCG ? ",max_iterations=" + std::to_string(maxIterations) : std::string())
+          << ",compression=" << (compressionRule ? "on" : "off");
+    else if (name == "explicit")
+        s << ":substeps=" << substeps;
+    return s.str();
+}
+
+namespace {
+
+bool parseInt(std::string_view text, int& out) {
+    auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+    return ec == std::errc() && p == text.data() + text.size();
+}
+
+bool parseDouble(std::string_view text, Scalar& out) {
+    // std::from_chars for double is available in GCC 12.
+    auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+    return ec == std::errc() && p == text.data() + text.size() && std::isfinite(out);
+}
+
+bool parseSwitch(std::string_view text, bool& out) {
+    if (text == "on" || text == "true" || text == "1") return out = true, true;
+    if (text == "off" || text == "false" || text == "0") return out = false, true;
+    return false;
+}
+
+}  // namespace
+
+bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* error) {
+    auto failWith = [error](const std::string& msg) {
+        if (error) *error = msg;
+        return false;
+    };
+    SolverConfig c;
+    const auto colon = spec.find(':');
+    c.name = std::string(spec.substr(0, colon));
+    if (c.name == "cg") c.useCG = true;
+    if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit")
+        return failWith("unknown solver '" + c.name + "' (known: kangcho, exact, cg, explicit)");
+    std::string_view rest = colon == std::string_view::npos ? "" : spec.substr(colon + 1);
+    while (!rest.empty()) {
+        const auto comma = rest.find(',');
+        const std::string_view item = rest.substr(0, comma);
+        rest = comma == std::string_view::npos ? "" : rest.substr(comma + 1);
+        const auto eq = item.find('=');
+        if (eq == std::string_view::npos)
+            return failWith("solver parameter '" + std::string(item) + "' is not key=value");
+        const std::string key(item.substr(0, eq));
+        const std::string_view value = item.substr(eq + 1);
+        bool ok = false;
+        if (key == "iterations" && c.name == "kangcho") ok = parseInt(value, c.iterations);
+        else if (key == "compression" && c.name != "explicit") ok = parseSwitch(value, c.compressionRule);
+        else if (key == "tolerance" && (c.name == "exact" || c.name == "cg")) ok = parseDouble(value, c.tolerance);
+        else if (key == "max_iterations" && (c.name == "exact" || c.name == "cg")) ok = parseInt(value, c.maxIterations);
+        else if (key == "method" && c.name == "exact") {
+            ok = value == "cg" || value == "cholesky";
+            c.useCG = value == "cg";
+        } else if (key == "substeps" && c.name == "explicit") ok = parseInt(value, c.substeps);
+        else return failWith("solver '" + c.name + "' has no parameter '" + key + "'");
+        if (!ok)
+            return failWith("solver '" + c.name + "' parameter " + key + " has a bad value '" +
+                            std::string(value) + "'");
+    }
+    const std::string problem = validate(c);
+    if (!problem.empty()) return failWith(problem);
+    out = c;
+    return true;
+}
+
+std::string validate(const SolverConfig& c) {
+    if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit")
+        return "unknown solver '" + c.name + "'";
+    if (c.iterations < 0 || c.iterations > 100000)
+        return "iterations = " + std::to_string(c.iterations) + " must be in [0, 100000]";
+    if (!(c.tolerance > 0 && c.tolerance < 1))
+        return "tolerance = " + std::to_string(c.tolerance) + " must be in (0, 1)";
+    if (c.maxIterations < 1) return "max_iterations = " + std::to_string(c.maxIterations) + " must be >= 1";
+    if (c.substeps < 1 || c.substeps > 100000)
+        return "substeps = " + std::to_string(c.substeps) + " must be in [1, 100000]";
+    return {};
+}
+
+const char* toString(StepStatus status) {
+    switch (status) {
+        case StepStatus::Ok: return "ok";
+        case StepStatus::NonFinite: return "non-finite state";
+        case StepStatus::SolverFailed: return "solver failed";
+    }
+    return "?";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shared pieces of the implicit step
+
+void jacobiStart(const LinearSystem& sys, Points& dv) {
+    const Index n = static_cast<Index>(sys.diag.size());
+    dv.resize(3, n);
+    for (Index i = 0; i < n; ++i) dv.col(i) = sys.diagInv[i] * sys.rhs.col(i);
+}
+
+void jacobiSweep(const Model& model, const LinearSystem& sys, const Points& dv, Points& dvNext) {
+    applyOffDiagonal(model, sys, dv, dvNext);  // dvNext_i = h^2 sum_j J_ij dv_j
+    for (Index i = 0; i < model.particleCount(); ++i)
+        dvNext.col(i) = sys.diagInv[i] * (sys.rhs.col(i) + dvNext.col(i));
+}
+
+bool solveExact(const Model& model, const LinearSystem& sys, Points& dv, Scalar* residual) {
+    const Eigen::SparseMatrix<Scalar> W = assembleMatrix(model, sys);
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<Scalar>> chol(W);
+    if (chol.info() != Eigen::Success) return false;
+    const Eigen::Map<const Eigen::VectorXd> b(sys.rhs.data(), sys.rhs.size());
+    Eigen::VectorXd x = chol.solve(b);
+    // Iterative refinement: a couple of residual corrections bring the relative residual to
+    // rounding level even for ill-conditioned (stiff, small h) systems.
+    const Scalar bNorm = std::max(b.norm(), Scalar(1e-300));
+    Scalar rel = (W * x - b).norm() / bNorm;
+    for (int k = 0; k < 3 && rel > 1e-12; ++k) {
+        x += chol.solve(b - W * x);
+        rel = (W * x - b).norm() / bNorm;
+    }
+    if (residual) *residual = rel;
+    dv = Eigen::Map<const Points>(x.data(), 3, model.particleCount());
+    return x.allFinite();
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Writes the step's outcome into `state`, or leaves it untouched when anything is non-finite.
+// Pinned particles land exactly on their targets with their target velocity.
+StepResult commit(const StepInput& input, Scalar h, State& state, State& scratch,
+                  StepResult result) {
+    const Index n = static_cast<Index>(state.x.cols());
+    for (const Pin& p : input.pins) {
+        if (p.particle < 0 || p.particle >= n) continue;
+        scratch.x.col(p.particle) = p.x;
+        scratch.v.col(p.particle) = p.v;
+    }
+    (void)h;
+    const Index bad = firstNonFinite(scratch);
+    if (bad >= 0) {
+        result.status = StepStatus::NonFinite;
+        result.badParticle = bad;
+        return result;
+    }
+    std::swap(state.x, scratch.x);
+    std::swap(state.v, scratch.v);
+    return result;
+}
+
+// Backward Euler step shape shared by every implicit solver: build the system, solve for dv,
+// then v += dv, x += h v. Subclasses supply the solve.
+class ImplicitSolver : public Solver {
+public:
+    using Solver::Solver;
+    StepResult step(const Model& model, const Environment& env, State& state,
+                    const StepInput& input) override {
+        auto t0 = Clock::now();
+        buildSystem(model, env, state, input, config_.compressionRule, sys_);
+        profile_.forcesMs = msSince(t0);
+
+        t0 = Clock::now();
+        StepResult result;
+        if (!solve(model, result)) result.status = StepStatus::SolverFailed;
+        profile_.solveMs = msSince(t0);
+        if (result.status != StepStatus::Ok) return result;
+
+        t0 = Clock::now();
+        const Scalar h = input.h;
+        scratch_.v = state.v + dv_;
+        scratch_.x = state.x + h * scratch_.v;
+        result = commit(input, h, state, scratch_, result);
+        profile_.integrateMs = msSince(t0);
+        return result;
+    }
+
+protected:
+    virtual bool solve(const Model& model, StepResult& result) = 0;
+    LinearSystem sys_;
+    State scratch_;
+};
+
+// Kang & Cho: dv(0) = W_ii^-1 b_i, then `iterations` Jacobi sweeps (eq. 11); one sweep is eq. 14.
+class KangChoSolver final : public ImplicitSolver {
+public:
+    using ImplicitSolver::ImplicitSolver;
+
+protected:
+    bool solve(const Model& model, StepResult& result) override {
+        jacobiStart(sys_, dv_);
+        for (int k = 0; k < config_.iterations; ++k) {
+            jacobiSweep(model, sys_, dv_, next_);
+            std::swap(dv_, next_);
+        }
+        result.iterations = config_.iterations;
+        return true;
+    }
+
+private:
+    Points next_;
+};
+
+// The reference: the same system solved exactly (sparse Cholesky), or by conjugate gradients
+// to a tolerance (block-free diagonal preconditioner).
+class ExactSolver final : public ImplicitSolver {
+public:
+    using ImplicitSolver::ImplicitSolver;
+
+protected:
+    bool solve(const Model& model, StepResult& result) override {
+        if (!config_.useCG) {
+            result.iterations = 1;
+            return solveExact(model, sys_, dv_, &result.residual);
+        }
+        const Eigen::SparseMatrix<Scalar> W = assembleMatrix(model, sys_);
+        Eigen::ConjugateGradient<Eigen::SparseMatrix<Scalar>, Eigen::Lower | Eigen::Upper> cg;
+        cg.setTolerance(config_.tolerance);
+        cg.setMaxIterations(config_.maxIterations);
+        cg.compute(W);
+        const Eigen::Map<const Eigen::VectorXd> b(sys_.rhs.data(), sys_.rhs.size());
+        // Warm start from the Jacobi guess dv(0): cheap and always at least as good as zero.
+        jacobiStart(sys_, dv_);
+        Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(dv_.data(), dv_.size());
+        Eigen::VectorXd x = cg.solveWithGuess(b, x0);
+        result.iterations = static_cast<int>(cg.iterations());
+        result.residual = cg.error();
+        dv_ = Eigen::Map<const Points>(x.data(), 3, model.particleCount());
+        return x.allFinite();
+    }
+};
+
+// Symplectic Euler with substeps: v += hs f / m, x += hs v. Pinned particles move straight to
+// their targets.
+class ExplicitSolver final : public Solver {
+public:
+    using Solver::Solver;
+    StepResult step(const Model& model, const Environment& env, State& state,
+                    const StepInput& input) override {
+        const Index n = model.particleCount();
+        const int substeps = config_.substeps;
+        const Scalar hs = input.h / substeps;
+        const auto& mass = model.masses();
+        std::vector<std::uint8_t> pinned(n, 0);
+        Points pinVelocity = Points::Zero(3, n);
+        for (const Pin& p : input.pins)
+            if (p.particle >= 0 && p.particle < n) {
+                pinned[p.particle] = 1;
+                pinVelocity.col(p.particle) = (p.x - state.x.col(p.particle)) / input.h;
+            }
+        profile_ = {};
+        scratch_.x = state.x;
+        scratch_.v = state.v;
+        for (int k = 0; k < substeps; ++k) {
+            auto t0 = Clock::now();
+            computeForces(model, env, scratch_, input.externalForce, force_);
+            profile_.forcesMs += msSince(t0);
+            t0 = Clock::now();
+            for (Index i = 0; i < n; ++i) {
+                if (pinned[i]) scratch_.v.col(i) = pinVelocity.col(i);
+                else scratch_.v.col(i) += hs / mass[i] * force_.col(i);
+                scratch_.x.col(i) += hs * scratch_.v.col(i);
+            }
+            profile_.solveMs += msSince(t0);
+        }
+        auto t0 = Clock::now();
+        dv_ = scratch_.v - state.v;
+        StepResult result = commit(input, input.h, state, scratch_, StepResult{});
+        result.iterations = substeps;
+        profile_.integrateMs = msSince(t0);
+        return result;
+    }
+
+private:
+    State scratch_;
+    Points force_;
+};
+
+}  // namespace
+
+std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* error) {
+    const std::string problem = validate(config);
+    if (!problem.empty()) {
+        if (error) *error = problem;
+        return nullptr;
+    }
+    if (config.name == "kangcho") return std::unique_ptr<Solver>(new KangChoSolver(config));
+    if (config.name == "exact" || config.name == "cg") {
+        SolverConfig c = config;
+        if (c.name == "cg") c.useCG = true;
+        return std::unique_ptr<Solver>(new ExactSolver(c));
+    }
+    return std::unique_ptr<Solver>(new ExplicitSolver(config));
+}
+
+}  // namespace cloth
