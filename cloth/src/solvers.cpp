@@ -182,6 +182,7 @@ public:
     using Solver::Solver;
     StepResult step(const Model& model, const Environment& env, State& state,
                     const StepInput& input) override {
+        if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
         auto t0 = Clock::now();
         buildSystem(model, env, state, input, config_.compressionRule, sys_);
         profile_.forcesMs = msSince(t0);
@@ -263,6 +264,7 @@ public:
     using Solver::Solver;
     StepResult step(const Model& model, const Environment& env, State& state,
                     const StepInput& input) override {
+        if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
         const Index n = model.particleCount();
         const int substeps = config_.substeps;
         const Scalar hs = input.h / substeps;
