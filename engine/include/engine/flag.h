@@ -1,0 +1,93 @@
+#pragma once
+// The flag subsystem: a cloth from the scene's flag settings, its pole-side column pinned to a
+// pole carried by a rigid frame (a vehicle chassis, or the world for a fixed pole), stepped by
+// the scene's solver with air and collisions as the scene declares them.
+//
+// Recovery policy when a step fails (non-finite state or solver breakdown): the cloth library
+// leaves the state as it was before the step; the flag retries the tick in 8 substeps of the same
+// solver; if that fails too, it resets to its rest shape at the pole's current pose. Every
+// failure is counted and the first is reported with its step number and particle.
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cloth/air.h"
+#include "cloth/collision.h"
+#include "cloth/solver.h"
+#include "engine/scene.h"
+
+namespace engine {
+
+// A rigid frame and its velocity: x_world = position + rotation * x_local.
+struct RigidFrame {
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+    Eigen::Vector3d linearVelocity = Eigen::Vector3d::Zero();
+    Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();
+    Eigen::Vector3d point(const Eigen::Vector3d& local) const { return position + rotation * local; }
+    Eigen::Vector3d velocityAt(const Eigen::Vector3d& world) const {
+        return linearVelocity + angularVelocity.cross(world - position);
+    }
+};
+
+// Where the pole stands in its carrier's frame: base point, height; the flag trails along
+// `trailing` (a unit vector in the carrier frame, perpendicular to the pole's +y axis).
+struct PoleMount {
+    Eigen::Vector3d base = Eigen::Vector3d::Zero();
+    double height = 3.0;
+    double radius = 0.03;
+    Eigen::Vector3d trailing = -Eigen::Vector3d::UnitZ();
+};
+
+struct FlagTimings {  // milliseconds, summed since the last reset
+    double forces = 0, solve = 0, air = 0, collision = 0;
+};
+
+class Flag {
+public:
+    // Throws ConfigError when the settings cannot make a cloth (the message names the field).
+    Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier);
+
+    // One tick of length h with the carrier at its end-of-tick pose: pins follow the pole, air
+    // and collisions as enabled. `colliders` are world-space (pole capsule, body, ground).
+    void tick(double h, const RigidFrame& carrier, const std::vector<cloth::Collider>& colliders);
+
+    const cloth::Model& model() const { return model_; }
+    const cloth::State& state() const { return state_; }
+    cloth::State& mutableState() { return state_; }  // tests inject faults through this
+    const std::vector<cloth::Pin>& pins() const { return pins_; }
+    const FlagTimings& timings() const { return timings_; }
+    void resetTimings() { timings_ = {}; }
+    long long steps() const { return steps_; }
+    int failures() const { return failures_; }
+    const std::string& firstFailure() const { return firstFailure_; }
+    // The world-space pole capsule for the given carrier pose.
+    cloth::Collider poleCollider(const RigidFrame& carrier) const;
+
+private:
+    void updatePins(const RigidFrame& carrier);
+    bool stepOnce(double h, const std::vector<cloth::Collider>& colliders);
+    void resetToRest(const RigidFrame& carrier);
+
+    cloth::Model model_;
+    cloth::State state_;
+    std::unique_ptr<cloth::Solver> solver_;
+    cloth::Environment env_;
+    std::vector<cloth::Pin> pins_;
+    std::vector<Eigen::Vector3d> pinLocal_;  // pinned particles in the carrier frame
+    std::vector<std::uint8_t> pinnedFlags_;
+    PoleMount mount_;
+    bool air_ = false, collision_ = false;
+    cloth::AirParams airParams_;
+    double thickness_ = 0;
+    int substeps_ = 1;
+    cloth::Points airForce_;
+    FlagTimings timings_;
+    long long steps_ = 0;
+    int failures_ = 0;
+    std::string firstFailure_;
+};
+
+}  // namespace engine

@@ -1,0 +1,96 @@
+#pragma once
+// A scene file (JSON) says which subsystems a scene uses and how each is set up. The engine
+// constructs only the declared subsystems; the frame loop has only their phases.
+//
+// Relative paths inside a scene file are relative to the scene file's folder.
+
+#include <array>
+#include <string>
+
+#include "cloth/air.h"
+#include "cloth/model.h"
+#include "cloth/solver.h"
+
+namespace engine {
+
+enum Subsystem : unsigned {
+    kVehicle = 1u << 0,    // Bullet world with the raycast vehicle
+    kCloth = 1u << 1,      // the flag
+    kAir = 1u << 2,        // aerodynamic forces on the flag
+    kCollision = 1u << 3,  // flag against pole, vehicle body, ground
+    kRender = 1u << 4,     // OpenGL renderer (headless through OSMesa unless kWindow)
+    kWindow = 1u << 5,     // SDL2 window and live input
+    kRecording = 1u << 6,  // frames (and video) written to disk
+    kProfiling = 1u << 7,  // per-frame phase profile, CSV and summary
+};
+const char* subsystemName(unsigned bit);
+std::string describeSubsystems(unsigned mask);
+
+using Vec3d = std::array<double, 3>;
+
+struct SceneConfig {
+    std::string file;  // where it was loaded from
+    std::string name;
+    std::string description;
+    unsigned subsystems = 0;
+
+    double fps = 60;          // render rate
+    double physicsHz = 240;   // fixed physics (and cloth) tick
+    int maxTicksPerFrame = 8; // catch-up clamp
+    double duration = 10;     // default simulated seconds
+    std::string script;       // default input script (vehicle scenes)
+
+    struct Vehicle {
+        std::string model;        // glTF/OBJ for the body, loaded with assimp
+        std::string wheelModel;   // optional
+        double mass = 800;        // kg
+        double engineForce = 3000;// N per driven wheel at full throttle
+        double brakeForce = 120;  // N m... brake impulse scale per wheel
+        double maxSteer = 0.5;    // rad
+        Vec3d spawn = {0, 0.8, 0};
+        double heading = 0;       // rad about +y
+        Vec3d poleOffset = {0, 0.6, -1.6};  // pole base in the chassis frame
+        double poleHeight = 2.6;
+        double poleRadius = 0.03;
+    } vehicle;
+
+    struct Pole {  // a fixed pole for scenes without a vehicle
+        Vec3d base = {0, 0, 0};
+        double height = 3.0;
+        double radius = 0.03;
+    } pole;
+
+    struct Flag {
+        int nx = 33, ny = 33;
+        double width = 1.5, height = 1.0;
+        double mass = 0.25;          // kg
+        cloth::Stiffness stiffness = {2e4, 2e4, 2e3};
+        cloth::SolverConfig solver;  // kangcho, 1 iteration, eq. 17 on
+        double drag = 0.05;          // linear drag rate, 1/s
+        double thickness = 0.015;    // collision margin, m
+        int substeps = 1;            // cloth steps per physics tick
+    } flag;
+
+    cloth::AirParams air;
+
+    struct Camera {
+        std::string mode = "chase";  // chase | fixed
+        double distance = 9, height = 3.5, fov = 50;  // chase
+        double smoothing = 0.1;      // chase: fraction of the gap closed per frame
+        Vec3d eye = {4, 3, 6}, target = {0.75, 1.8, 0};  // fixed
+    } camera;
+
+    struct Render {
+        int width = 1280, height = 720;
+        int shadowMapSize = 2048;
+    } render;
+};
+
+// Loads and validates a scene file. Throws ConfigError naming the file, field and value.
+SceneConfig loadScene(const std::string& path);
+// The same from text that came from `path` (relative paths resolve against its folder).
+SceneConfig parseScene(const std::string& text, const std::string& path);
+// "NAME" -> <assets>/scenes/NAME.json, a path with '/' or ".json" is used as it is.
+std::string resolveScenePath(const std::string& nameOrPath, const std::string& assetsDir);
+
+}  // namespace engine

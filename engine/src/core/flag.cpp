@@ -1,0 +1,151 @@
+#include "engine/flag.h"
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include "cloth/diagnostics.h"
+#include "engine/config_error.h"
+#include "engine/profiler.h"
+
+namespace engine {
+
+namespace {
+
+cloth::Model buildModel(const SceneConfig& scene, const PoleMount& mount) {
+    const auto& f = scene.flag;
+    cloth::GridDesc g;
+    g.nx = f.nx;
+    g.ny = f.ny;
+    g.width = f.width;
+    g.height = f.height;
+    g.totalMass = f.mass;
+    g.stiffness = f.stiffness;
+    // In the carrier frame: column 0 on the pole, from its top down; the flag trails behind.
+    g.origin = mount.base + Eigen::Vector3d(0, mount.height, 0);
+    g.axisU = mount.trailing;
+    g.axisV = -Eigen::Vector3d::UnitY();
+    try {
+        return cloth::Model::fromGrid(g);
+    } catch (const std::invalid_argument& e) {
+        throw ConfigError(scene.file + ": flag: " + e.what());
+    }
+}
+
+}  // namespace
+
+Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier)
+    : model_(buildModel(scene, mount)), mount_(mount) {
+    std::string error;
+    solver_ = cloth::makeSolver(scene.flag.solver, &error);
+    if (!solver_) throw ConfigError(scene.file + ": flag.solver: " + error);
+    env_.drag = scene.flag.drag;
+    air_ = scene.subsystems & kAir;
+    collision_ = scene.subsystems & kCollision;
+    airParams_ = scene.air;
+    thickness_ = scene.flag.thickness;
+    substeps_ = scene.flag.substeps;
+    const int nx = model_.gridNx();
+    pinnedFlags_.assign(model_.particleCount(), 0);
+    for (int r = 0; r < model_.gridNy(); ++r) {
+        const cloth::Index p = r * nx;
+        pinnedFlags_[p] = 1;
+        pinLocal_.push_back(model_.restPositions().col(p));
+        pins_.push_back({p, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+    }
+    resetToRest(carrier);
+}
+
+void Flag::resetToRest(const RigidFrame& carrier) {
+    state_ = cloth::State::atRest(model_);
+    // No real flag is perfectly flat; a flat sheet pinned along an edge is an (unstable)
+    // equilibrium it would never leave. A millimetre-scale ripple across the plane breaks the
+    // symmetry the same way every time.
+    const Eigen::Vector3d across = mount_.trailing.cross(Eigen::Vector3d::UnitY());
+    const int nx = model_.gridNx();
+    for (cloth::Index i = 0; i < model_.particleCount(); ++i) {
+        const double u = double(i % nx) / (nx - 1), v = double(i / nx) / (model_.gridNy() - 1);
+        const Eigen::Vector3d local =
+            model_.restPositions().col(i) + 0.003 * u * std::sin(3.0 * u + 2.0 * v) * across;
+        const Eigen::Vector3d w = carrier.point(local);
+        state_.x.col(i) = w;
+        state_.v.col(i) = carrier.velocityAt(w);
+    }
+    updatePins(carrier);
+}
+
+void Flag::updatePins(const RigidFrame& carrier) {
+    for (std::size_t k = 0; k < pins_.size(); ++k) {
+        pins_[k].x = carrier.point(pinLocal_[k]);
+        pins_[k].v = carrier.velocityAt(pins_[k].x);
+    }
+}
+
+cloth::Collider Flag::poleCollider(const RigidFrame& carrier) const {
+    cloth::Collider c;
+    c.shape = cloth::Collider::Shape::Capsule;
+    c.axis = carrier.rotation * Eigen::Vector3d::UnitY();
+    c.center = carrier.point(mount_.base + Eigen::Vector3d(0, mount_.height / 2, 0));
+    c.halfExtents = Eigen::Vector3d(mount_.height / 2, 0, 0);
+    c.radius = mount_.radius;
+    c.velocity = carrier.velocityAt(c.center);
+    return c;
+}
+
+bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
+    using Clock = std::chrono::steady_clock;
+    cloth::StepInput input;
+    input.h = h;
+    input.pins = pins_;
+    if (air_) {
+        const auto t0 = Clock::now();
+        airForce_.setZero(3, model_.particleCount());
+        cloth::addAirForces(model_, state_, airParams_, airForce_);
+        input.externalForce = &airForce_;
+        timings_.air += Profiler::msSince(t0);
+    }
+    const cloth::StepResult r = solver_->step(model_, env_, state_, input);
+    timings_.forces += solver_->profile().forcesMs;
+    timings_.solve += solver_->profile().solveMs + solver_->profile().integrateMs;
+    ++steps_;
+    if (r.status != cloth::StepStatus::Ok) {
+        if (failures_++ == 0)
+            firstFailure_ = "cloth step " + std::to_string(steps_) + ": " +
+                            cloth::toString(r.status) + " (first bad particle " +
+                            std::to_string(r.badParticle) + ")";
+        return false;
+    }
+    if (collision_ && !colliders.empty()) {
+        const auto t0 = Clock::now();
+        cloth::resolveCollisions(colliders, thickness_, &pinnedFlags_, state_);
+        timings_.collision += Profiler::msSince(t0);
+    }
+    return true;
+}
+
+void Flag::tick(double h, const RigidFrame& carrier, const std::vector<cloth::Collider>& colliders) {
+    // Pins move to the carrier's end-of-tick pose; with substeps they are interpolated linearly
+    // from where they are, so they still land exactly on the pole at the end of the tick.
+    const std::vector<cloth::Pin> start = pins_;
+    auto runSubsteps = [&](int n) {
+        for (int s = 1; s <= n; ++s) {
+            updatePins(carrier);
+            if (s < n)
+                for (std::size_t k = 0; k < pins_.size(); ++k)
+                    pins_[k].x = start[k].x + (pins_[k].x - start[k].x) * (double(s) / n);
+            if (!stepOnce(h / n, colliders)) return false;
+        }
+        return true;
+    };
+    // A failed single step leaves the state untouched; with substeps, keep the start to go back to.
+    std::optional<cloth::State> before;
+    if (substeps_ > 1) before = state_;
+    if (runSubsteps(substeps_)) return;
+    if (before) state_ = *before;
+    pins_ = start;
+    if (runSubsteps(8 * substeps_)) return;
+    resetToRest(carrier);
+}
+
+}  // namespace engine

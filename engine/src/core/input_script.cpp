@@ -1,0 +1,122 @@
+#include "engine/input_script.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/json_fields.h"
+
+namespace engine {
+
+namespace {
+InputScript fromJson(const nlohmann::json& root, const std::string& path);
+}
+
+InputScript InputScript::load(const std::string& path) {
+    return fromJson(JsonFields::parseFile(path), path);
+}
+
+InputScript InputScript::parse(const std::string& text, const std::string& path) {
+    return fromJson(JsonFields::parseText(text, path), path);
+}
+
+namespace {
+InputScript fromJson(const nlohmann::json& root, const std::string& path) {
+    using Keyframe = InputScript::Keyframe;
+    using Interpolation = InputScript::Interpolation;
+    JsonFields top(path, root);
+    top.allowOnly({"interpolation", "keyframes", "description"});
+    top.string("description", "");
+    const std::string mode = top.oneOf("interpolation", "linear", {"linear", "step"});
+    if (!top.has("keyframes")) throw ConfigError(path + ": keyframes: missing (a script needs a timeline)");
+    const nlohmann::json& list = top.at("keyframes");
+    if (!list.is_array()) top.fail("keyframes", list, "must be an array of keyframes");
+    if (list.empty()) top.fail("keyframes", list, "is empty: a script needs at least one keyframe");
+    std::vector<Keyframe> keys;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        JsonFields k(path, list[i], "keyframes[" + std::to_string(i) + "]");
+        k.allowOnly({"t", "throttle", "brake", "steer", "handbrake"});
+        if (!k.has("t")) k.fail(k.pathOf("t"), nullptr, "missing (every keyframe needs a time)");
+        Keyframe kf;
+        kf.t = k.number("t", 0, 0, 1e6);
+        if (!keys.empty() && kf.t <= keys.back().t)
+            k.fail(k.pathOf("t"), list[i]["t"],
+                   "times must increase (previous keyframe is at t = " +
+                       std::to_string(keys.back().t) + ")");
+        kf.actions.throttle = k.number("throttle", 0, -1, 1);
+        kf.actions.brake = k.number("brake", 0, 0, 1);
+        kf.actions.steer = k.number("steer", 0, -1, 1);
+        kf.actions.handbrake = k.number("handbrake", 0, 0, 1);
+        keys.push_back(kf);
+    }
+    return InputScript::fromKeyframes(std::move(keys),
+                                      mode == "step" ? Interpolation::Step : Interpolation::Linear);
+}
+}  // namespace
+
+InputScript InputScript::fromKeyframes(std::vector<Keyframe> keyframes, Interpolation mode) {
+    InputScript s;
+    s.keys_ = std::move(keyframes);
+    s.mode_ = mode;
+    return s;
+}
+
+Actions InputScript::sample(double t) const {
+    if (keys_.empty()) return {};
+    if (t <= keys_.front().t) return keys_.front().actions;
+    if (t >= keys_.back().t) return keys_.back().actions;
+    // First keyframe strictly after t; the one before it is at or before t.
+    const auto next = std::upper_bound(keys_.begin(), keys_.end(), t,
+                                       [](double time, const Keyframe& k) { return time < k.t; });
+    const Keyframe& a = *(next - 1);
+    if (mode_ == Interpolation::Step) return a.actions;
+    const Keyframe& b = *next;
+    const double s = (t - a.t) / (b.t - a.t);
+    auto lerp = [s](double x, double y) { return x + s * (y - x); };
+    return {lerp(a.actions.throttle, b.actions.throttle), lerp(a.actions.brake, b.actions.brake),
+            lerp(a.actions.steer, b.actions.steer), lerp(a.actions.handbrake, b.actions.handbrake)};
+}
+
+bool InputScript::save(const std::string& path, std::string* error) const {
+    nlohmann::json root;
+    root["interpolation"] = mode_ == Interpolation::Step ? "step" : "linear";
+    nlohmann::json list = nlohmann::json::array();
+    for (const Keyframe& k : keys_)
+        list.push_back({{"t", k.t},
+                        {"throttle", k.actions.throttle},
+                        {"brake", k.actions.brake},
+                        {"steer", k.actions.steer},
+                        {"handbrake", k.actions.handbrake}});
+    root["keyframes"] = std::move(list);
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp);
+        out << root.dump(1) << "\n";  // doubles are written so that they read back exactly
+        if (!out.flush()) {
+            if (error) *error = path + ": cannot write input script";
+            std::remove(tmp.c_str());
+            return false;
+        }
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        if (error) *error = path + ": cannot rename the written script into place";
+        std::remove(tmp.c_str());
+        return false;
+    }
+    return true;
+}
+
+void InputRecorder::record(double t, const Actions& a) {
+    // Only changes need a keyframe under step interpolation (and the first frame).
+    if (!keys_.empty() && keys_.back().actions == a) return;
+    keys_.push_back({t, a});
+}
+
+InputScript InputRecorder::script() const {
+    std::vector<InputScript::Keyframe> keys = keys_;
+    if (keys.empty()) keys.push_back({0, {}});
+    return InputScript::fromKeyframes(std::move(keys), InputScript::Interpolation::Step);
+}
+
+}  // namespace engine

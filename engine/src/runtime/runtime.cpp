@@ -1,0 +1,389 @@
+#include "engine/runtime.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <thread>
+
+#include "engine/config_error.h"
+#include "engine/input_script.h"
+#include "runtime/scene_view.h"
+#include "runtime/summary.h"
+#include "runtime/vehicle_system.h"
+
+namespace engine {
+
+namespace {
+
+std::atomic<bool> gStop{false};
+SubsystemCounters gCounters;
+
+void onStopSignal(int) { gStop = true; }
+
+using Clock = std::chrono::steady_clock;
+
+}  // namespace
+
+SubsystemCounters subsystemCounters() { return gCounters; }
+void installStopHandlers() {
+    std::signal(SIGINT, onStopSignal);
+    std::signal(SIGTERM, onStopSignal);
+}
+bool stopRequested() { return gStop.load(); }
+
+struct Runtime::Impl {
+    SceneConfig scene;
+    RunOptions opt;
+    Profiler profiler;
+    struct Phases {
+        int input = -1, bullet = -1, air = -1, clothForces = -1, clothSolve = -1,
+            collision = -1, render = -1, readback = -1, write = -1;
+    } ph;
+
+    std::optional<InputScript> script;
+    std::optional<InputRecorder> recorder;
+    Actions actions;
+
+    std::unique_ptr<VehicleSystem> vehicle;  // kVehicle
+    std::unique_ptr<Flag> flag;              // kCloth
+    RigidFrame fixedCarrier;                 // the world, for a fixed pole
+    PoleMount mount;                         // the pole in its carrier's frame
+    std::vector<cloth::Collider> staticColliders;
+    std::unique_ptr<SceneView> view;         // kRender (+ kWindow, kRecording)
+
+    int frame = 0, frames = 0;
+    long long ticks = 0;
+    double tickDt = 0;
+    bool lockstep = true;
+    Clock::time_point lastWall;
+    double accumulator = 0;
+    double maxPinError = 0;
+    std::string stopReason = "completed";
+    Clock::time_point start = Clock::now();
+
+    RigidFrame carrier() const { return vehicle ? vehicle->carrier() : fixedCarrier; }
+    void tick();
+};
+
+void Runtime::Impl::tick() {
+    // The flag steps inside the physics tick, with the pole at its end-of-tick pose.
+    const double clothBefore = flag ? flag->timings().forces + flag->timings().solve +
+                                          flag->timings().air + flag->timings().collision
+                                    : 0;
+    const auto t0 = Clock::now();
+    if (vehicle) vehicle->stepTick(tickDt);  // calls back into the flag through its tick hook
+    else if (flag) {
+        std::vector<cloth::Collider> colliders = staticColliders;
+        colliders.push_back(flag->poleCollider(fixedCarrier));
+        flag->tick(tickDt, fixedCarrier, colliders);
+    }
+    if (vehicle) {
+        const double clothInside = flag ? flag->timings().forces + flag->timings().solve +
+                                              flag->timings().air + flag->timings().collision -
+                                              clothBefore
+                                        : 0;
+        profiler.add(ph.bullet, Profiler::msSince(t0) - clothInside);
+    }
+    ++ticks;
+    if (flag) {
+        // Pin error: each pinned particle against its point on the pole, computed here from the
+        // mount and the carrier's pose (not from the flag's own pin targets).
+        const RigidFrame c = carrier();
+        const auto& pins = flag->pins();
+        const double dy = scene.flag.height / (scene.flag.ny - 1);
+        for (std::size_t r = 0; r < pins.size(); ++r) {
+            const Eigen::Vector3d local = mount.base + Eigen::Vector3d(0, mount.height - r * dy, 0);
+            maxPinError = std::max(maxPinError,
+                                   (flag->state().x.col(pins[r].particle) - c.point(local)).norm());
+        }
+    }
+}
+
+Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.scene = sceneIn;
+    m.opt = options;
+    SceneConfig& s = m.scene;
+    if (options.width) s.render.width = options.width;
+    if (options.height) s.render.height = options.height;
+    if ((s.render.width % 2) || (s.render.height % 2))
+        throw ConfigError("--width/--height: " + std::to_string(s.render.width) + "x" +
+                          std::to_string(s.render.height) + " must both be even");
+    if (options.window) {
+        if (!(s.subsystems & kRender))
+            throw ConfigError(s.file + ": scene '" + s.name + "' does not render (no 'render' "
+                              "subsystem), so --window has nothing to show");
+        s.subsystems |= kWindow;
+    }
+    if (!options.outDir.empty() && !(s.subsystems & kRender) && (options.video))
+        throw ConfigError("--video: scene '" + s.name + "' does not render");
+    if (options.outDir.empty()) s.subsystems &= ~kRecording;
+    if (options.noFrames && !options.video) s.subsystems &= ~kRecording;
+    if (!options.recordInput.empty() && !(s.subsystems & kVehicle))
+        throw ConfigError("--record-input: scene '" + s.name + "' has no vehicle to drive");
+
+    // Output folder: never silently overwritten.
+    if (!options.outDir.empty()) {
+        namespace fs = std::filesystem;
+        std::error_code ec;
+        if (fs::exists(options.outDir) && !fs::is_empty(options.outDir, ec) && !options.force)
+            throw ConfigError("--out " + options.outDir +
+                              ": folder exists and is not empty (use --force to write into it)");
+        fs::create_directories(options.outDir, ec);
+        if (ec) throw ConfigError("--out " + options.outDir + ": cannot create folder: " + ec.message());
+    }
+
+    m.tickDt = 1.0 / s.physicsHz;
+    const double duration = options.duration > 0 ? options.duration : s.duration;
+    m.frames = options.frames > 0 ? options.frames : std::max(1, int(std::lround(duration * s.fps)));
+    // Live input follows the wall clock; everything else (and recording input) is lockstep.
+    m.lockstep = !(s.subsystems & kWindow) || !options.recordInput.empty();
+
+    // Phases, in frame order, only for the subsystems the scene has.
+    Profiler& p = m.profiler;
+    if (s.subsystems & kVehicle) {
+        m.ph.input = p.addPhase("input");
+        m.ph.bullet = p.addPhase("bullet");
+    }
+    if (s.subsystems & kCloth) {
+        if (s.subsystems & kAir) m.ph.air = p.addPhase("air");
+        m.ph.clothForces = p.addPhase("cloth_forces");
+        m.ph.clothSolve = p.addPhase("cloth_solve");
+        if (s.subsystems & kCollision) m.ph.collision = p.addPhase("collision");
+    }
+    if (s.subsystems & kRender) {
+        m.ph.render = p.addPhase("render");
+        m.ph.readback = p.addPhase("readback");
+    }
+    if (s.subsystems & kRecording) m.ph.write = p.addPhase("write");
+
+    if (s.subsystems & kVehicle) {
+        const std::string scriptPath = options.scriptPath.empty() ? s.script : options.scriptPath;
+        if (!scriptPath.empty() && !(s.subsystems & kWindow)) m.script = InputScript::load(scriptPath);
+        else if (!scriptPath.empty() && !options.scriptPath.empty()) m.script = InputScript::load(scriptPath);
+        if (!options.recordInput.empty()) m.recorder.emplace();
+        m.vehicle = std::make_unique<VehicleSystem>(s, &m.profiler);
+        ++gCounters.bulletWorlds;
+    }
+
+    const RigidFrame carrier = m.carrier();
+    if (s.subsystems & kCloth) {
+        PoleMount& mount = m.mount;
+        if (m.vehicle) mount = m.vehicle->poleMount();
+        else {
+            mount.base = Eigen::Vector3d(s.pole.base[0], s.pole.base[1], s.pole.base[2]);
+            mount.height = s.pole.height;
+            mount.radius = s.pole.radius;
+            mount.trailing = Eigen::Vector3d::UnitX();
+        }
+        m.flag = std::make_unique<Flag>(s, mount, carrier);
+        if (s.subsystems & kCollision) {
+            cloth::Collider ground;  // the ground plane, y = 0
+            ground.shape = cloth::Collider::Shape::Plane;
+            ground.axis = Eigen::Vector3d::UnitY();
+            m.staticColliders.push_back(ground);
+        }
+        if (m.vehicle) {
+            Impl* self = &m;
+            m.vehicle->setTickHook([self](double h) {
+                const RigidFrame c = self->vehicle->carrier();
+                std::vector<cloth::Collider> colliders = self->staticColliders;
+                if (self->scene.subsystems & kCollision) {
+                    colliders.push_back(self->flag->poleCollider(c));
+                    colliders.push_back(self->vehicle->bodyCollider());
+                }
+                self->flag->tick(h, c, colliders);
+            });
+        }
+    }
+
+    if (s.subsystems & kRender) {
+        m.view = std::make_unique<SceneView>(s, options, m.vehicle.get(), m.flag.get(), m.frames);
+        ++gCounters.glContexts;
+        if (s.subsystems & kWindow) ++gCounters.windows;
+        if (s.subsystems & kRecording) ++gCounters.frameWriters;
+    }
+    m.lastWall = Clock::now();
+}
+
+Runtime::~Runtime() = default;
+
+bool Runtime::frame() {
+    Impl& m = *impl_;
+    if (m.frame >= m.frames) return false;
+    if (stopRequested()) {
+        m.stopReason = "interrupted";
+        return false;
+    }
+    if (m.view && m.view->windowClosed()) {
+        m.stopReason = "window closed";
+        return false;
+    }
+    Profiler& p = m.profiler;
+    p.beginFrame();
+    const double t = m.ticks * m.tickDt;
+
+    if (m.vehicle) {
+        Profiler::Scope scope(p, m.ph.input);
+        if (m.view && m.view->hasWindow() && !m.script) m.actions = m.view->pollActions();
+        else {
+            if (m.view) m.view->pollActions();  // keep the window responsive
+            m.actions = m.script ? m.script->sample(t) : Actions{};
+        }
+        if (m.recorder) m.recorder->record(t, m.actions);
+        m.vehicle->setActions(m.actions);
+    }
+
+    // How many fixed ticks this frame: exactly the schedule in lockstep, else the wall clock.
+    long long ticksNow;
+    if (m.lockstep) {
+        const long long target =
+            static_cast<long long>(std::floor((m.frame + 1) * m.scene.physicsHz / m.scene.fps + 1e-9));
+        ticksNow = target - m.ticks;
+    } else {
+        const auto now = Clock::now();
+        m.accumulator += std::chrono::duration<double>(now - m.lastWall).count();
+        m.lastWall = now;
+        ticksNow = static_cast<long long>(m.accumulator / m.tickDt);
+        if (ticksNow > m.scene.maxTicksPerFrame) {
+            ticksNow = m.scene.maxTicksPerFrame;
+            m.accumulator = 0;  // drop the backlog instead of spiralling
+        } else {
+            m.accumulator -= ticksNow * m.tickDt;
+        }
+    }
+    if (m.flag) m.flag->resetTimings();
+    for (long long k = 0; k < ticksNow; ++k) m.tick();
+    if (m.flag) {
+        const FlagTimings& ft = m.flag->timings();
+        if (m.ph.air >= 0) p.add(m.ph.air, ft.air);
+        p.add(m.ph.clothForces, ft.forces);
+        p.add(m.ph.clothSolve, ft.solve);
+        if (m.ph.collision >= 0) p.add(m.ph.collision, ft.collision);
+    }
+
+    if (m.view) m.view->renderFrame(m.frame, p, m.ph.render, m.ph.readback, m.ph.write);
+    p.endFrame();
+    ++m.frame;
+    if (!m.lockstep && m.view && m.view->hasWindow()) {
+        // Pace a live window to the frame rate.
+        const auto next = m.lastWall + std::chrono::duration<double>(1.0 / m.scene.fps);
+        std::this_thread::sleep_until(next);
+    }
+    return true;
+}
+
+int Runtime::finish() {
+    Impl& m = *impl_;
+    int code = 0;
+    RunFacts f;
+    f.scene = m.scene.name;
+    f.subsystems = describeSubsystems(m.scene.subsystems);
+    f.solver = (m.scene.subsystems & kCloth) ? m.scene.flag.solver.describe() : "";
+    f.script = m.script ? (m.opt.scriptPath.empty() ? m.scene.script : m.opt.scriptPath) : "";
+    f.frames = m.frame;
+    f.width = m.scene.render.width;
+    f.height = m.scene.render.height;
+    f.simTime = m.ticks * m.tickDt;
+    f.wallSeconds = std::chrono::duration<double>(Clock::now() - m.start).count();
+    f.stopReason = m.stopReason;
+    f.maxPinError = m.maxPinError;
+    if (m.flag) {
+        f.clothSteps = m.flag->steps();
+        f.clothFailures = m.flag->failures();
+        f.firstClothFailure = m.flag->firstFailure();
+    }
+    if (m.view) {
+        std::string error;
+        if (!m.view->finishRecording(&f.framesWritten, &f.video, &error)) {
+            f.writerError = error;
+            std::fprintf(stderr, "flagsim: error: %s\n", error.c_str());
+            code = 1;
+        }
+    }
+    if (m.recorder) {
+        std::string error;
+        if (!m.recorder->script().save(m.opt.recordInput, &error)) {
+            std::fprintf(stderr, "flagsim: error: %s\n", error.c_str());
+            code = 1;
+        }
+    }
+    if (!m.opt.outDir.empty()) {
+        std::string error;
+        if (!m.profiler.writeCsv(m.opt.outDir + "/profile.csv", &error) ||
+            !writeSummary(m.opt.outDir + "/summary.json", f, m.profiler, &error)) {
+            std::fprintf(stderr, "flagsim: error: %s\n", error.c_str());
+            code = 1;
+        }
+    }
+    return code;
+}
+
+int Runtime::frameIndex() const { return impl_->frame; }
+int Runtime::frameCount() const { return impl_->frames; }
+double Runtime::simTime() const { return impl_->ticks * impl_->tickDt; }
+const Profiler& Runtime::profiler() const { return impl_->profiler; }
+const Flag* Runtime::flag() const { return impl_->flag.get(); }
+Flag* Runtime::mutableFlag() { return impl_->flag.get(); }
+double Runtime::maxPinError() const { return impl_->maxPinError; }
+const std::vector<std::uint8_t>& Runtime::pixels() const {
+    static const std::vector<std::uint8_t> none;
+    return impl_->view ? impl_->view->pixels() : none;
+}
+Eigen::Vector3d Runtime::poleTop() const {
+    if (impl_->vehicle) {
+        const PoleMount mount = impl_->vehicle->poleMount();
+        return impl_->vehicle->carrier().point(mount.base + Eigen::Vector3d(0, mount.height, 0));
+    }
+    const auto& b = impl_->scene.pole.base;
+    return Eigen::Vector3d(b[0], b[1] + impl_->scene.pole.height, b[2]);
+}
+Eigen::Vector3d Runtime::carrierVelocity() const { return impl_->carrier().linearVelocity; }
+
+namespace {
+
+void drawProgress(int done, int total, double wallSeconds) {
+    const int width = 30;
+    const int filled = total > 0 ? done * width / total : width;
+    std::fprintf(stderr, "\r[%.*s%*s] %d/%d frames  %.1f frames/s ", filled,
+                 "##############################", width - filled, "", done, total,
+                 wallSeconds > 0 ? done / wallSeconds : 0.0);
+    std::fflush(stderr);
+}
+
+}  // namespace
+
+int runScene(const SceneConfig& scene, const RunOptions& options) {
+    installStopHandlers();
+    Runtime rt(scene, options);
+    const bool progress = !options.noProgress && isatty(fileno(stderr));
+    const auto t0 = Clock::now();
+    while (rt.frame())
+        if (progress && (rt.frameIndex() % 10 == 0 || rt.frameIndex() == rt.frameCount()))
+            drawProgress(rt.frameIndex(), rt.frameCount(),
+                         std::chrono::duration<double>(Clock::now() - t0).count());
+    if (progress) std::fprintf(stderr, "\n");
+    const int code = rt.finish();
+    std::printf("scene %s: %d frames, %.2f s simulated, %.2f s wall\n", scene.name.c_str(),
+                rt.frameIndex(), rt.simTime(), std::chrono::duration<double>(Clock::now() - t0).count());
+    if (rt.flag()) {
+        std::printf("cloth: %lld steps, solver %s, max pin error %.3g m, %d failed steps\n",
+                    rt.flag()->steps(), scene.flag.solver.describe().c_str(), rt.maxPinError(),
+                    rt.flag()->failures());
+        if (rt.flag()->failures())
+            std::printf("cloth: first failure: %s\n", rt.flag()->firstFailure().c_str());
+    }
+    std::printf("%s", rt.profiler().summaryTable().c_str());
+    if (!options.outDir.empty()) std::printf("recorded to %s\n", options.outDir.c_str());
+    if (stopRequested()) std::printf("interrupted: outputs are complete up to the last frame\n");
+    return code;
+}
+
+}  // namespace engine

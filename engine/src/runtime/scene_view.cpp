@@ -1,0 +1,261 @@
+// Rendering and recording of a scene: context, renderer, meshes, camera, writers.
+
+#include "runtime/scene_view.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "engine/assets/primitives.h"
+#include "engine/config_error.h"
+#ifdef FLAGSIM_HAS_BULLET
+#include "engine/physics/vehicle_world.h"
+#endif
+#include "engine/record/frame_writer.h"
+#include "engine/record/video_encoder.h"
+#include "engine/render/renderer.h"
+#include "runtime/vehicle_system.h"
+#ifdef FLAGSIM_HAS_ASSIMP
+#include "engine/assets/model_loader.h"
+#endif
+
+namespace engine {
+
+namespace {
+
+Eigen::Matrix4f toMatrix(const Eigen::Isometry3d& t) { return t.matrix().cast<float>(); }
+
+Eigen::Vector3f vec(const Vec3d& v) { return Eigen::Vector3f(float(v[0]), float(v[1]), float(v[2])); }
+
+}  // namespace
+
+struct SceneView::Impl {
+    const SceneConfig* scene = nullptr;
+    const VehicleSystem* vehicle = nullptr;
+    const Flag* flag = nullptr;
+    std::unique_ptr<GLContext> context;
+    std::unique_ptr<Renderer> renderer;
+    std::vector<DrawItem> staticItems;
+    std::vector<int> bodyMeshes;
+    int wheelMesh = -1, poleMesh = -1, flagMesh = -1;
+    std::vector<float> flagPositions, flagNormals;
+    std::vector<std::uint32_t> flagIndices;
+    std::vector<std::uint8_t> pixels;
+    Camera camera;
+    bool cameraStarted = false;
+    bool windowOpen = true;
+    std::unique_ptr<FrameWriter> writer;
+    std::unique_ptr<VideoEncoder> video;
+    std::string videoPath;
+
+    void updateCamera();
+    std::vector<DrawItem> drawList();
+};
+
+SceneView::SceneView(const SceneConfig& scene, const RunOptions& options, const VehicleSystem* vehicle,
+                     const Flag* flag, int frames)
+    : impl_(std::make_unique<Impl>()) {
+    (void)frames;
+    Impl& m = *impl_;
+    m.scene = &scene;
+    m.vehicle = vehicle;
+    m.flag = flag;
+    const int w = scene.render.width, h = scene.render.height;
+    std::string error;
+    m.context = (scene.subsystems & kWindow) ? createWindowContext(w, h, "flagsim: " + scene.name, &error)
+                                             : createOffscreenContext(w, h, &error);
+    if (!m.context) throw ConfigError(scene.file + ": render: " + error);
+    try {
+        m.renderer = std::make_unique<Renderer>(*m.context, scene.render.shadowMapSize);
+    } catch (const std::runtime_error& e) {
+        throw ConfigError(scene.file + ": render: " + e.what());
+    }
+    Renderer& r = *m.renderer;
+
+    const int groundTexture = r.addTexture(makeGroundTexture(512), 512, 512);
+    Material groundMat;
+    groundMat.color = {1, 1, 1};
+    groundMat.texture = groundTexture;
+    m.staticItems.push_back({r.addMesh(makeGround(vehicle ? 600.f : 60.f, 4.f), groundMat), Eigen::Matrix4f::Identity()});
+
+    Material poleMat;
+    poleMat.color = {0.75f, 0.75f, 0.78f};
+    const double poleRadius = vehicle ? scene.vehicle.poleRadius : scene.pole.radius;
+    const double poleHeight = vehicle ? scene.vehicle.poleHeight : scene.pole.height;
+    m.poleMesh = r.addMesh(makeCylinder(float(poleRadius), float(poleHeight / 2), 16), poleMat);
+
+    if (vehicle) {
+#ifdef FLAGSIM_HAS_BULLET
+        Material propMat;
+        propMat.color = {0.62f, 0.58f, 0.5f};
+        for (const GroundProp& prop : vehicle->props()) {
+            const MeshData mesh = prop.shape == GroundProp::Shape::Box
+                                      ? makeBox(float(prop.halfExtents.x()), float(prop.halfExtents.y()), float(prop.halfExtents.z()))
+                                      : makeCylinder(float(prop.halfExtents.x()), float(prop.halfExtents.y()), 24);
+            m.staticItems.push_back({r.addMesh(mesh, propMat), toMatrix(prop.transform)});
+        }
+#endif
+        // The body: the scene's model fitted onto the chassis box, or the box itself.
+        const Eigen::Vector3d he = vehicle->chassisHalfExtents();
+        const float half[3] = {float(he.x()), float(he.y()) + 0.25f, float(he.z())};
+#ifdef FLAGSIM_HAS_ASSIMP
+        LoadedModel model = loadModel(scene.vehicle.model);
+        fitModel(model, half);
+        for (const MeshData& part : model.parts) {
+            Material mat;
+            mat.color = {part.color[0], part.color[1], part.color[2]};
+            m.bodyMeshes.push_back(r.addMesh(part, mat));
+        }
+#else
+        Material body;
+        body.color = {0.8f, 0.15f, 0.1f};
+        m.bodyMeshes.push_back(r.addMesh(makeBox(half[0], half[1], half[2]), body));
+#endif
+        Material tyre;
+        tyre.color = {0.08f, 0.08f, 0.09f};
+        m.wheelMesh = r.addMesh(makeCylinder(float(vehicle->wheelRadius()), float(vehicle->wheelWidth() / 2), 24), tyre);
+    }
+
+    if (flag) {
+        const cloth::Model& model = flag->model();
+        const int nx = model.gridNx(), ny = model.gridNy();
+        std::vector<float> uvs;
+        for (int row = 0; row < ny; ++row)
+            for (int col = 0; col < nx; ++col) uvs.insert(uvs.end(), {float(col) / (nx - 1), float(row) / (ny - 1)});
+        for (const cloth::Triangle& t : model.triangles())
+            m.flagIndices.insert(m.flagIndices.end(), {std::uint32_t(t[0]), std::uint32_t(t[1]), std::uint32_t(t[2])});
+        const int flagTexture = r.addTexture(makeFlagTexture(384, 256), 384, 256);
+        Material flagMat;
+        flagMat.color = {1, 1, 1};
+        flagMat.texture = flagTexture;
+        flagMat.doubleSided = true;
+        m.flagMesh = r.addDynamicMesh(std::size_t(model.particleCount()), m.flagIndices, uvs, flagMat);
+    }
+
+    if (scene.subsystems & kRecording) {
+        if (!options.noFrames) m.writer = std::make_unique<FrameWriter>(options.outDir + "/frames", w, h);
+        if (options.video) {
+            m.videoPath = options.outDir + "/video.mp4";
+            m.video = VideoEncoder::start(m.videoPath, w, h, scene.fps, &error);
+            if (!m.video) throw ConfigError("--video: " + error);
+        }
+    }
+}
+
+SceneView::~SceneView() = default;
+
+bool SceneView::hasWindow() const { return impl_->context->isWindow(); }
+bool SceneView::windowClosed() const { return !impl_->windowOpen; }
+
+Actions SceneView::pollActions() {
+    Actions a;
+    impl_->windowOpen = impl_->context->pollEvents(a) && impl_->windowOpen;
+    return a;
+}
+
+void SceneView::Impl::updateCamera() {
+    const SceneConfig::Camera& c = scene->camera;
+    camera.fovY = float(c.fov);
+    if (c.mode == "fixed" || !vehicle) {
+        camera.eye = vec(c.eye);
+        camera.target = vec(c.target);
+        return;
+    }
+    // Chase: behind the vehicle along its heading (flattened), eased towards its spot each frame.
+    const Eigen::Isometry3d t = vehicle->chassisTransform();
+    Eigen::Vector3d forward = vehicle->forward();
+    forward.y() = 0;
+    if (forward.norm() < 1e-6) forward = Eigen::Vector3d::UnitZ();
+    forward.normalize();
+    const Eigen::Vector3f target = (t.translation() + Eigen::Vector3d(0, 1.2, 0)).cast<float>();
+    const Eigen::Vector3f eye = (t.translation() - c.distance * forward + Eigen::Vector3d(0, c.height, 0)).cast<float>();
+    if (!cameraStarted) {
+        camera.eye = eye;
+        camera.target = target;
+        cameraStarted = true;
+    } else {
+        const float s = float(c.smoothing);
+        camera.eye += s * (eye - camera.eye);
+        camera.target += s * 2.f * (target - camera.target);
+    }
+}
+
+std::vector<DrawItem> SceneView::Impl::drawList() {
+    std::vector<DrawItem> items = staticItems;
+    Eigen::Isometry3d carrier = Eigen::Isometry3d::Identity();
+    Eigen::Vector3d poleBase(scene->pole.base[0], scene->pole.base[1], scene->pole.base[2]);
+    double poleHeight = scene->pole.height;
+    if (vehicle) {
+        carrier = vehicle->chassisTransform();
+        Eigen::Isometry3d body = carrier;
+        body.translate(Eigen::Vector3d(0, 0.25, 0));  // the box sits above the chassis origin
+        for (int mesh : bodyMeshes) items.push_back({mesh, toMatrix(body)});
+        for (int i = 0; i < vehicle->wheelCount(); ++i) {
+            Eigen::Isometry3d wheel = vehicle->wheelTransform(i);
+            wheel.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));  // cylinder axis y -> axle x
+            items.push_back({wheelMesh, toMatrix(wheel)});
+        }
+        const PoleMount mount = vehicle->poleMount();
+        poleBase = mount.base;
+        poleHeight = mount.height;
+    }
+    Eigen::Isometry3d pole = carrier;
+    pole.translate(poleBase + Eigen::Vector3d(0, poleHeight / 2, 0));
+    items.push_back({poleMesh, toMatrix(pole)});
+    if (flag) {
+        const cloth::Points& x = flag->state().x;
+        flagPositions.resize(std::size_t(x.size()));
+        for (Eigen::Index i = 0; i < x.size(); ++i) flagPositions[std::size_t(i)] = float(x.data()[i]);
+        computeSmoothNormals(flagPositions, flagIndices, flagNormals);
+        renderer->updateDynamicMesh(flagMesh, flagPositions, flagNormals);
+        items.push_back({flagMesh, Eigen::Matrix4f::Identity()});
+    }
+    return items;
+}
+
+void SceneView::renderFrame(int frame, Profiler& profiler, int phRender, int phReadback, int phWrite) {
+    Impl& m = *impl_;
+    {
+        Profiler::Scope scope(profiler, phRender);
+        m.updateCamera();
+        Lighting light;
+        light.shadowFocus = m.camera.target;
+        light.shadowExtent = 18;
+        m.renderer->render(m.camera, light, m.drawList());
+    }
+    {
+        Profiler::Scope scope(profiler, phReadback);
+        // A live window without recording has no use for the pixels: skip the readback.
+        if (m.writer || m.video || !m.context->isWindow()) m.renderer->readPixels(m.pixels);
+        m.context->present();
+    }
+    if (phWrite >= 0) {
+        Profiler::Scope scope(profiler, phWrite);
+        if (m.writer) m.writer->push(frame, m.pixels);
+        if (m.video) m.video->push(m.pixels);
+    }
+}
+
+const std::vector<std::uint8_t>& SceneView::pixels() const { return impl_->pixels; }
+
+bool SceneView::finishRecording(int* framesWritten, std::string* video, std::string* error) {
+    Impl& m = *impl_;
+    bool ok = true;
+    std::string err;
+    if (m.writer) {
+        ok = m.writer->finish();
+        if (!ok) err = m.writer->error();
+        *framesWritten = m.writer->written();
+    }
+    if (m.video) {
+        std::string verr;
+        if (m.video->finish(&verr)) *video = m.videoPath;
+        else {
+            ok = false;
+            if (err.empty()) err = verr;
+        }
+    }
+    if (!ok && error) *error = err;
+    return ok;
+}
+
+}  // namespace engine

@@ -1,0 +1,26 @@
+// Rendering in a build without OSMesa and SDL2: a scene that declares it gets a clear error.
+
+#include "engine/config_error.h"
+#include "runtime/scene_view.h"
+
+namespace engine {
+
+struct SceneView::Impl {};
+
+SceneView::SceneView(const SceneConfig& scene, const RunOptions&, const VehicleSystem*,
+                     const Flag*, int) {
+    throw ConfigError(scene.file + ": subsystems: scene '" + scene.name +
+                      "' needs 'render', but this build has neither OSMesa nor SDL2");
+}
+SceneView::~SceneView() = default;
+bool SceneView::hasWindow() const { return false; }
+bool SceneView::windowClosed() const { return false; }
+Actions SceneView::pollActions() { return {}; }
+void SceneView::renderFrame(int, Profiler&, int, int, int) {}
+const std::vector<std::uint8_t>& SceneView::pixels() const {
+    static const std::vector<std::uint8_t> none;
+    return none;
+}
+bool SceneView::finishRecording(int*, std::string*, std::string*) { return true; }
+
+}  // namespace engine

@@ -1,0 +1,51 @@
+#include "runtime/summary.h"
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace engine {
+
+bool writeSummary(const std::string& path, const RunFacts& f, const Profiler& profiler,
+                  std::string* error) {
+    nlohmann::json j;
+    j["scene"] = f.scene;
+    j["subsystems"] = f.subsystems;
+    j["solver"] = f.solver;
+    j["script"] = f.script;
+    j["frames"] = f.frames;
+    j["resolution"] = {f.width, f.height};
+    j["sim_time_s"] = f.simTime;
+    j["wall_time_s"] = f.wallSeconds;
+    j["stop_reason"] = f.stopReason;
+    j["cloth"] = {{"steps", f.clothSteps},
+                  {"failures", f.clothFailures},
+                  {"first_failure", f.firstClothFailure},
+                  {"max_pin_error_m", f.maxPinError}};
+    j["recording"] = {{"frames_written", f.framesWritten}, {"video", f.video}, {"error", f.writerError}};
+    nlohmann::json phases = nlohmann::json::object();
+    const auto cols = profiler.columns();
+    const auto stats = profiler.summary();
+    for (std::size_t c = 0; c < cols.size(); ++c)
+        phases[cols[c]] = {{"mean_ms", stats[c].mean}, {"p50_ms", stats[c].p50},
+                           {"p95_ms", stats[c].p95},   {"p99_ms", stats[c].p99},
+                           {"max_ms", stats[c].max}};
+    j["profile"] = std::move(phases);
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp);
+        out << j.dump(2) << "\n";
+        if (!out.flush()) {
+            if (error) *error = path + ": cannot write the summary (disk full?)";
+            std::remove(tmp.c_str());
+            return false;
+        }
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        if (error) *error = path + ": cannot rename the summary into place";
+        return false;
+    }
+    return true;
+}
+
+}  // namespace engine

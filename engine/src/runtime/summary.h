@@ -1,0 +1,27 @@
+#pragma once
+// summary.json: what ran, and the profile summary per phase.
+
+#include <string>
+
+#include "engine/profiler.h"
+#include "engine/scene.h"
+
+namespace engine {
+
+struct RunFacts {
+    std::string scene, solver, subsystems, script, stopReason;
+    int frames = 0, width = 0, height = 0;
+    double simTime = 0, wallSeconds = 0, maxPinError = 0;
+    long long clothSteps = 0;
+    int clothFailures = 0;
+    std::string firstClothFailure;
+    int framesWritten = 0;
+    std::string video;  // path, or empty
+    std::string writerError;
+};
+
+// Writes to a temporary name and renames it into place. Returns false with *error set.
+bool writeSummary(const std::string& path, const RunFacts& facts, const Profiler& profiler,
+                  std::string* error);
+
+}  // namespace engine

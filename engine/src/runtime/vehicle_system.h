@@ -1,0 +1,50 @@
+#pragma once
+// The vehicle subsystem as the runtime sees it: Bullet's world and raycast vehicle, driven by
+// actions, with a hook that runs on every internal physics tick (where the flag steps).
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "cloth/collision.h"
+#include "engine/flag.h"
+#include "engine/input_script.h"
+#include "engine/mesh.h"
+#include "engine/profiler.h"
+#include "engine/scene.h"
+
+namespace engine {
+
+class VehicleWorld;
+struct GroundProp;
+
+class VehicleSystem {
+public:
+    // Throws ConfigError when this build has no Bullet.
+    VehicleSystem(const SceneConfig& scene, Profiler* profiler);
+    ~VehicleSystem();
+
+    void setActions(const Actions& actions);
+    void setTickHook(std::function<void(double)> hook);
+    void stepTick(double dt);  // one fixed tick; the hook runs at its end
+
+    RigidFrame carrier() const;        // chassis pose and velocity
+    PoleMount poleMount() const;       // the pole in the chassis frame
+    cloth::Collider bodyCollider() const;
+    Eigen::Vector3d forward() const;   // world-space driving direction
+    Eigen::Isometry3d chassisTransform() const;
+    int wheelCount() const;
+    Eigen::Isometry3d wheelTransform(int i) const;
+    double wheelRadius() const;
+    double wheelWidth() const;
+    Eigen::Vector3d chassisHalfExtents() const;
+    double speed() const;
+    const std::vector<GroundProp>& props() const;  // static ground features, for rendering
+
+private:
+    std::unique_ptr<VehicleWorld> world_;
+    PoleMount mount_;
+};
+
+}  // namespace engine

@@ -1,0 +1,85 @@
+// Scene files: every shipped scene loads; malformed ones give an error naming file, field, value.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "engine/config_error.h"
+#include "engine/scene.h"
+
+using namespace engine;
+
+namespace {
+
+const std::string kScenes = std::string(FLAGSIM_ASSETS_DIR) + "/scenes/";
+
+std::string errorOf(const std::string& text) {
+    try {
+        parseScene(text, kScenes + "test.json");
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+}  // namespace
+
+TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
+    EXPECT_EQ(loadScene(kScenes + "bench_cloth.json").subsystems, unsigned(kCloth | kAir | kProfiling));
+    EXPECT_TRUE(loadScene(kScenes + "hanging_flag.json").subsystems & kRender);
+    EXPECT_FALSE(loadScene(kScenes + "hanging_flag.json").subsystems & kVehicle);
+    EXPECT_FALSE(loadScene(kScenes + "vehicle_only.json").subsystems & kCloth);
+    const SceneConfig demo = loadScene(kScenes + "flag_vehicle.json");
+    EXPECT_EQ(demo.flag.nx, 33);
+    EXPECT_EQ(demo.flag.solver.name, "kangcho");
+    EXPECT_EQ(demo.flag.solver.iterations, 1);
+}
+
+TEST(Scene, MalformedScenesNameFileFieldAndValue) {
+    const std::string base = R"("subsystems": ["cloth"])";
+    struct Case {
+        std::string text, expect;
+    } cases[] = {
+        {"{" + base + R"(, "flg": {}})", "flg = {}: unknown field"},
+        {"{" + base + R"(, "flag": {"mass": 0}})", "flag.mass = 0: must be in"},
+        {"{" + base + R"(, "flag": {"mass": -1}})", "flag.mass = -1: must be in"},
+        {"{" + base + R"(, "flag": {"mass": "heavy"}})", "flag.mass = \"heavy\": must be a number"},
+        {"{" + base + R"(, "flag": {"mass": 1e999}})", "1e999"},
+        {"{" + base + R"(, "flag": {"width": 0}})", "flag.width = 0"},
+        {"{" + base + R"(, "flag": {"stiffness": {"structural": 0}}})", "flag.stiffness.structural = 0"},
+        {"{" + base + R"(, "flag": {"stiffness": {"bend": -5}}})", "flag.stiffness.bend = -5"},
+        {"{" + base + R"(, "flag": {"resolution": [0, 33]}})", "flag.resolution = [0,33]"},
+        {"{" + base + R"(, "flag": {"resolution": [1, 33]}})", "flag.resolution = [1,33]"},
+        {"{" + base + R"(, "flag": {"resolution": [100000, 100000]}})", "flag.resolution = [100000,100000]"},
+        {"{" + base + R"(, "flag": {"resolution": 33}})", "flag.resolution = 33"},
+        {"{" + base + R"(, "flag": {"solver": {"name": "magic"}}})", "flag.solver.name = \"magic\": must be one of"},
+        {"{" + base + R"(, "flag": {"solver": {"iterations": -1}}})", "flag.solver.iterations = -1"},
+        {"{" + base + R"(, "timing": {"physics_hz": 0}})", "timing.physics_hz = 0"},
+        {"{" + base + R"(, "timing": {"fps": -60}})", "timing.fps = -60"},
+        {"{" + base + R"(, "air": {"wind": [1, 2]}})", "air.wind = [1,2]: must be an array of 3"},
+        {"{" + base + R"(, "render": {"width": 1281}})", "render.width = 1281: width and height must be even"},
+        {R"({"subsystems": ["cloth", "teleport"]})", "subsystems[1] = \"teleport\": unknown subsystem"},
+        {R"({"subsystems": ["air"]})", "air needs cloth"},
+        {R"({"flag": {}})", "subsystems: missing"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model": "nowhere.obj"}})", "vehicle.model = \"nowhere.obj\": file not found"},
+        {R"({"subsystems": ["vehicle", "render"]})", "vehicle.model: missing"},
+        {"{" + base + R"(, "script": "../scripts/none.json"})", "script = \"../scripts/none.json\": file not found"},
+        {R"([1, 2])", "must be an object"},
+        {R"({"subsystems": )", "not valid JSON"},
+    };
+    for (const Case& c : cases) {
+        const std::string e = errorOf(c.text);
+        EXPECT_NE(e.find(kScenes + "test.json"), std::string::npos) << e;
+        EXPECT_NE(e.find(c.expect), std::string::npos) << "scene: " << c.text << "\ngot: " << e
+                                                         << "\nwanted: " << c.expect;
+    }
+}
+
+TEST(Scene, MissingSceneFileIsNamed) {
+    try {
+        loadScene("/nonexistent/scene.json");
+        FAIL();
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.json: cannot open"), std::string::npos);
+    }
+}
