@@ -14,7 +14,7 @@ class OsMesaContext final : public GLContext {
 public:
     OsMesaContext(int w, int h, OSMesaContext ctx) : GLContext(w, h), ctx_(ctx), buffer_(size_t(w) * h * 4) {}
     ~OsMesaContext() override { OSMesaDestroyContext(ctx_); }
-    bool makeCurrent() {
+    bool makeCurrent() override {
         return OSMesaMakeCurrent(ctx_, buffer_.data(), GL_UNSIGNED_BYTE, width_, height_);
     }
     void* (*procAddress())(const char*) override { return &getProc; }

@@ -25,6 +25,7 @@ public:
     }
     void* (*procAddress())(const char*) override { return &SDL_GL_GetProcAddress; }
     void present() override { SDL_GL_SwapWindow(window_); }
+    bool makeCurrent() override { return SDL_GL_MakeCurrent(window_, gl_) == 0; }
     bool isWindow() const override { return true; }
 
     bool pollEvents(Actions& a) override {

@@ -216,6 +216,7 @@ void SceneView::renderFrame(int frame, Profiler& profiler, int phRender, int phR
     Impl& m = *impl_;
     {
         Profiler::Scope scope(profiler, phRender);
+        m.context->makeCurrent();
         m.updateCamera();
         Lighting light;
         light.shadowFocus = m.camera.target;

@@ -13,6 +13,8 @@ class GLContext {
 public:
     virtual ~GLContext() = default;
     virtual void* (*procAddress())(const char*) = 0;
+    // Several contexts may live in one process (tests): each frame makes its own current.
+    virtual bool makeCurrent() = 0;
     virtual void present() {}             // swap buffers (window)
     virtual bool isWindow() const { return false; }
     // Window events: keyboard and gamepad mapped to driving actions; false once the user closed

@@ -1,0 +1,74 @@
+// The vehicle scenes through the runtime: pins on a driven path, a trailing flag, Bullet only
+// where declared. Rendering is switched off here (see test_runtime_render.cpp for frames).
+
+#include <gtest/gtest.h>
+
+#include "engine/runtime.h"
+
+using namespace engine;
+
+namespace {
+
+SceneConfig headless(const char* name) {
+    SceneConfig s = loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/" + name + ".json");
+    s.subsystems &= ~(kRender | kRecording | kWindow);
+    return s;
+}
+
+}  // namespace
+
+TEST(RuntimeVehicle, PinsHaveZeroErrorAlongTheDrivenPath) {
+    RunOptions o;
+    o.duration = 6;  // accelerate, slalom, into the hard brake
+    Runtime rt(headless("flag_vehicle"), o);
+    double maxSpeed = 0;
+    while (rt.frame()) maxSpeed = std::max(maxSpeed, rt.carrierVelocity().norm());
+    EXPECT_GT(maxSpeed, 10.0) << "the script should really drive";
+    EXPECT_LT(rt.maxPinError(), 1e-9);
+    EXPECT_EQ(rt.flag()->failures(), 0);
+}
+
+TEST(RuntimeVehicle, FlagTrailsBehindAtSpeedAndHangsAtRest) {
+    SceneConfig s = headless("flag_vehicle");
+    s.script = std::string(FLAGSIM_ASSETS_DIR) + "/scripts/cruise.json";
+    RunOptions o;
+    o.duration = 7;
+    Runtime rt(s, o);
+    int checked = 0;
+    while (rt.frame()) {
+        const Eigen::Vector3d v = rt.carrierVelocity();
+        if (rt.simTime() < 4.0 || v.norm() < 5.0) continue;
+        // Behind the pole against the direction of travel, by a good part of the flag's width.
+        const Eigen::Vector3d centroid = rt.flag()->state().x.rowwise().mean();
+        const double along = (centroid - rt.poleTop()).dot(v.normalized());
+        EXPECT_LT(along, -0.4 * s.flag.width) << "t = " << rt.simTime() << ", speed " << v.norm();
+        ++checked;
+    }
+    EXPECT_GT(checked, 60) << "the cruise never held above 5 m/s";
+
+    // At rest in still air: hangs below the pole top.
+    SceneConfig still = headless("flag_vehicle");
+    still.script.clear();
+    RunOptions o2;
+    o2.duration = 5;
+    Runtime rest(still, o2);
+    while (rest.frame()) {
+    }
+    const Eigen::Vector3d centroid = rest.flag()->state().x.rowwise().mean();
+    EXPECT_LT(rest.carrierVelocity().norm(), 0.05);
+    EXPECT_LT(centroid.y(), rest.poleTop().y() - 0.6 * still.flag.height);
+}
+
+TEST(RuntimeVehicle, VehicleOnlySceneHasNoClothPhases) {
+    RunOptions o;
+    o.frames = 10;
+    const SubsystemCounters before = subsystemCounters();
+    Runtime rt(headless("vehicle_only"), o);
+    while (rt.frame()) {
+    }
+    EXPECT_EQ(rt.flag(), nullptr);
+    for (const std::string& p : rt.profiler().phases())
+        EXPECT_TRUE(p == "input" || p == "bullet" || p.rfind("bullet:", 0) == 0) << p;
+    EXPECT_EQ(subsystemCounters().bulletWorlds, before.bulletWorlds + 1);
+    EXPECT_EQ(subsystemCounters().glContexts, before.glContexts);
+}
