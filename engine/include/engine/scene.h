@@ -44,12 +44,12 @@ struct SceneConfig {
         std::string model;        // glTF/OBJ for the body, loaded with assimp
         std::string wheelModel;   // optional
         double mass = 800;        // kg
-        double engineForce = 3000;// N per driven wheel at full throttle
+        double engineForce = 2000;  // N per driven wheel at full throttle
         double brakeForce = 120;  // N m... brake impulse scale per wheel
         double maxSteer = 0.5;    // rad
         Vec3d spawn = {0, 0.8, 0};
         double heading = 0;       // rad about +y
-        Vec3d poleOffset = {0, 0.6, -1.6};  // pole base in the chassis frame
+        Vec3d poleOffset = {0, 0.85, -1.6};  // pole base in the chassis frame (on the body)
         double poleHeight = 2.6;
         double poleRadius = 0.03;
     } vehicle;

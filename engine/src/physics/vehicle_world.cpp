@@ -105,7 +105,7 @@ VehicleWorld::VehicleWorld(const VehicleParams& p) : impl_(std::make_unique<Impl
     auto box = std::make_unique<btBoxShape>(bt(p.halfExtents));
     btTransform local;
     local.setIdentity();
-    local.setOrigin(btVector3(0, btScalar(0.25), 0));
+    local.setOrigin(btVector3(0, btScalar(p.boxOffset), 0));
     compound->addChildShape(local, box.get());
     btVector3 inertia;
     compound->calculateLocalInertia(btScalar(p.mass), inertia);
@@ -134,7 +134,7 @@ VehicleWorld::VehicleWorld(const VehicleParams& p) : impl_(std::make_unique<Impl
     m.world.addVehicle(m.vehicle.get());
     const btVector3 down(0, -1, 0), axle(-1, 0, 0);
     const double hx = p.halfExtents.x() - 0.3 * p.wheelWidth, hz = p.halfExtents.z() - p.wheelRadius - 0.15;
-    const double y = 0.05;  // connection height in the chassis frame
+    const double y = p.wheelConnectionHeight;
     const btVector3 points[4] = {{btScalar(hx), btScalar(y), btScalar(hz)},
                                  {btScalar(-hx), btScalar(y), btScalar(hz)},
                                  {btScalar(hx), btScalar(y), btScalar(-hz)},
@@ -162,7 +162,9 @@ void VehicleWorld::stepTick(double dt) {
     Impl& m = *impl_;
     const VehicleControls& c = m.controls;
     // Steering follows the input at a limited rate, like a driver's hands.
-    const double target = std::clamp(c.steer, -1.0, 1.0) * params_.maxSteer;
+    // Less lock at speed, as any driver (or driving game) does: full lock at 25 m/s rolls a car.
+    const double lock = params_.maxSteer / (1 + speed() / params_.steerSpeedFalloff);
+    const double target = std::clamp(c.steer, -1.0, 1.0) * lock;
     const double maxDelta = params_.steerRate * dt;
     m.steering += std::clamp(target - m.steering, -maxDelta, maxDelta);
     const double engine = std::clamp(c.throttle, -1.0, 1.0) * params_.engineForce;

@@ -96,7 +96,7 @@ SceneView::SceneView(const SceneConfig& scene, const RunOptions& options, const 
 #endif
         // The body: the scene's model fitted onto the chassis box, or the box itself.
         const Eigen::Vector3d he = vehicle->chassisHalfExtents();
-        const float half[3] = {float(he.x()), float(he.y()) + 0.25f, float(he.z())};
+        const float half[3] = {float(he.x()), float(he.y()), float(he.z())};
 #ifdef FLAGSIM_HAS_ASSIMP
         LoadedModel model = loadModel(scene.vehicle.model);
         fitModel(model, half);
@@ -187,7 +187,7 @@ std::vector<DrawItem> SceneView::Impl::drawList() {
     if (vehicle) {
         carrier = vehicle->chassisTransform();
         Eigen::Isometry3d body = carrier;
-        body.translate(Eigen::Vector3d(0, 0.25, 0));  // the box sits above the chassis origin
+        body.translate(vehicle->bodyOffset());
         for (int mesh : bodyMeshes) items.push_back({mesh, toMatrix(body)});
         for (int i = 0; i < vehicle->wheelCount(); ++i) {
             Eigen::Isometry3d wheel = vehicle->wheelTransform(i);

@@ -17,9 +17,6 @@ void leaveZone() {
     if (gZoneProfiler) gZoneProfiler->leaveZone();
 }
 
-// The chassis box sits this far above the chassis body's origin (see VehicleWorld).
-const Eigen::Vector3d kBoxOffset(0, 0.25, 0);
-
 }  // namespace
 
 VehicleSystem::VehicleSystem(const SceneConfig& scene, Profiler* profiler) {
@@ -65,7 +62,7 @@ cloth::Collider VehicleSystem::bodyCollider() const {
     const RigidFrame c = carrier();
     cloth::Collider box;
     box.shape = cloth::Collider::Shape::Box;
-    box.center = c.point(kBoxOffset);
+    box.center = c.point(bodyOffset());
     box.rotation = c.rotation.toRotationMatrix();
     box.halfExtents = world_->params().halfExtents;
     box.velocity = c.velocityAt(box.center);
@@ -84,6 +81,7 @@ Eigen::Isometry3d VehicleSystem::chassisTransform() const {
 
 int VehicleSystem::wheelCount() const { return world_->wheelCount(); }
 Eigen::Isometry3d VehicleSystem::wheelTransform(int i) const { return world_->wheelTransform(i); }
+Eigen::Vector3d VehicleSystem::bodyOffset() const { return Eigen::Vector3d(0, world_->params().boxOffset, 0); }
 double VehicleSystem::wheelRadius() const { return world_->params().wheelRadius; }
 double VehicleSystem::wheelWidth() const { return world_->params().wheelWidth; }
 Eigen::Vector3d VehicleSystem::chassisHalfExtents() const { return world_->params().halfExtents; }

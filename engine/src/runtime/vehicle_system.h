@@ -39,6 +39,7 @@ public:
     double wheelRadius() const;
     double wheelWidth() const;
     Eigen::Vector3d chassisHalfExtents() const;
+    Eigen::Vector3d bodyOffset() const;  // the chassis box centre in the chassis frame
     double speed() const;
     const std::vector<GroundProp>& props() const;  // static ground features, for rendering
 

@@ -23,6 +23,7 @@ Eigen::Vector3d VehicleSystem::forward() const { return Eigen::Vector3d::UnitZ()
 Eigen::Isometry3d VehicleSystem::chassisTransform() const { return Eigen::Isometry3d::Identity(); }
 int VehicleSystem::wheelCount() const { return 0; }
 Eigen::Isometry3d VehicleSystem::wheelTransform(int) const { return Eigen::Isometry3d::Identity(); }
+Eigen::Vector3d VehicleSystem::bodyOffset() const { return Eigen::Vector3d::Zero(); }
 double VehicleSystem::wheelRadius() const { return 0; }
 double VehicleSystem::wheelWidth() const { return 0; }
 Eigen::Vector3d VehicleSystem::chassisHalfExtents() const { return Eigen::Vector3d::Zero(); }

@@ -23,6 +23,10 @@ struct VehicleControls {
 struct VehicleParams {
     double mass = 800;                 // kg
     Eigen::Vector3d halfExtents = {0.9, 0.35, 2.0};  // chassis box, m
+    // The box's centre sits this far above the centre of mass: a low centre of mass keeps hard
+    // braking and sharp turns from tipping the car over.
+    double boxOffset = 0.5;
+    double wheelConnectionHeight = 0.3;  // above the centre of mass
     double engineForce = 2000;         // N per rear wheel at full throttle
     double brakeForce = 200;           // per wheel at full brake
     double maxSteer = 0.5;             // rad
@@ -30,7 +34,8 @@ struct VehicleParams {
     double wheelRadius = 0.38, wheelWidth = 0.25;
     double suspensionRestLength = 0.3;
     double suspensionStiffness = 30, dampingRelaxation = 2.3, dampingCompression = 4.4;
-    double frictionSlip = 2.5, rollInfluence = 0.1;
+    double frictionSlip = 1.4, rollInfluence = 0.02;  // grip ~1.4 g; low roll influence
+    double steerSpeedFalloff = 12;     // m/s: steering lock halves at this speed
     Eigen::Vector3d spawn = {0, 1.0, 0};
     double heading = 0;                // rad about +y
 };
