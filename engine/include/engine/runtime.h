@@ -35,6 +35,7 @@ struct RunOptions {
     bool noProgress = false;
     std::string recordInput;
     int width = 0, height = 0;  // 0: the scene's
+    bool readback = false;      // read every frame back even in a window without recording
     std::string assetsDir = FLAGSIM_ASSETS_DIR;
 };
 

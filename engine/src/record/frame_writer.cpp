@@ -9,18 +9,27 @@
 
 namespace engine {
 
+namespace {
+// libpng reports through these instead of printing; the error one must not return.
+void pngError(png_structp png, png_const_charp) { png_longjmp(png, 1); }
+void pngWarning(png_structp, png_const_charp) {}
+}  // namespace
+
 bool writePng(const std::string& path, int width, int height, const std::uint8_t* rgba, std::string* error) {
     std::FILE* f = std::fopen(path.c_str(), "wb");
     if (!f) {
         if (error) *error = path + ": cannot open for writing: " + std::strerror(errno);
         return false;
     }
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, &pngError, &pngWarning);
     png_infop info = png ? png_create_info_struct(png) : nullptr;
+    errno = 0;
     if (!png || !info || setjmp(png_jmpbuf(png))) {
+        const int err = errno;  // a failed fwrite inside libpng leaves the reason here
         png_destroy_write_struct(&png, &info);
         std::fclose(f);
-        if (error) *error = path + ": PNG encoding failed";
+        if (error) *error = path + ": cannot write PNG: " + (err ? std::strerror(err) : "encoder error") +
+                            (err == ENOSPC ? " (disk full)" : "");
         return false;
     }
     png_init_io(png, f);

@@ -43,17 +43,22 @@ float shadow(vec3 n) {
             lit += texture(uShadow, vec3(p.xy + vec2(x, y) * texel, p.z - bias));
     return lit / 9.0;
 }
+// Colours are given as display (sRGB) values; lighting happens in linear space, and the result is
+// encoded here rather than by GL_FRAMEBUFFER_SRGB, whose effect depends on the context (an
+// OSMesa buffer and an X11 window disagree).
+vec3 toLinear(vec3 c) { return pow(c, vec3(2.2)); }
+vec3 toDisplay(vec3 c) { return pow(max(c, vec3(0.0)), vec3(1.0 / 2.2)); }
 void main() {
     vec3 n = normalize(vNormal);
     if (uDoubleSided == 1 && !gl_FrontFacing) n = -n;
-    vec3 base = uColor;
-    if (uUseTexture == 1) base *= texture(uTexture, vUv).rgb;
+    vec3 base = toLinear(uColor);
+    if (uUseTexture == 1) base *= texture(uTexture, vUv).rgb;  // sRGB texture: sampled linear
     vec3 l = -uSunDir;
     float diffuse = max(dot(n, l), 0.0) * (uShadowSize > 0 ? shadow(n) : 1.0);
-    vec3 ambient = mix(uBounce, uSky, 0.5 + 0.5 * n.y) * uAmbient;
+    vec3 ambient = toLinear(mix(uBounce, uSky, 0.5 + 0.5 * n.y)) * uAmbient;
     vec3 v = normalize(uEye - vWorld);
     float spec = pow(max(dot(n, normalize(l + v)), 0.0), 32.0) * 0.15 * diffuse;
-    vec3 color = base * (ambient + diffuse * uSunColor) + spec * uSunColor;
+    vec3 color = toDisplay(base * (ambient + diffuse * toLinear(uSunColor)) + spec * toLinear(uSunColor));
     float fog = 1.0 - exp(-uFogDensity * length(uEye - vWorld));
     fragColor = vec4(mix(color, uHorizon, fog), 1.0);
 }
@@ -366,7 +371,7 @@ void Renderer::render(const Camera& camera, const Lighting& light, const std::ve
 
     // Main pass.
     gl.Viewport(0, 0, w, h);
-    gl.Enable(GL_FRAMEBUFFER_SRGB);
+    gl.Disable(GL_FRAMEBUFFER_SRGB);  // the shaders encode (see kMeshFragment)
     gl.ClearColor(light.horizonColor.x(), light.horizonColor.y(), light.horizonColor.z(), 1);
     gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     const Eigen::Matrix4f viewProj =
@@ -402,7 +407,6 @@ void Renderer::render(const Camera& camera, const Lighting& light, const std::ve
     gl.ActiveTexture(GL_TEXTURE1);
     gl.BindTexture(GL_TEXTURE_2D, m.shadowTexture);
     m.drawItems(items, p, false);
-    gl.Disable(GL_FRAMEBUFFER_SRGB);
 }
 
 void Renderer::readPixels(std::vector<std::uint8_t>& rgba) {

@@ -61,7 +61,7 @@ struct Runtime::Impl {
     long long ticks = 0;
     double tickDt = 0;
     bool lockstep = true;
-    Clock::time_point lastWall;
+    Clock::time_point lastWall, nextFrame = Clock::now();
     double accumulator = 0;
     double maxPinError = 0;
     std::string stopReason = "completed";
@@ -143,8 +143,10 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     m.tickDt = 1.0 / s.physicsHz;
     const double duration = options.duration > 0 ? options.duration : s.duration;
     m.frames = options.frames > 0 ? options.frames : std::max(1, int(std::lround(duration * s.fps)));
-    // Live input follows the wall clock; everything else (and recording input) is lockstep.
-    m.lockstep = !(s.subsystems & kWindow) || !options.recordInput.empty();
+    // Only live input (a window driving a vehicle without a script) follows the wall clock;
+    // everything else, and any run that records its input, advances in lockstep.
+    const bool liveInput = (s.subsystems & kWindow) && (s.subsystems & kVehicle) && options.scriptPath.empty();
+    m.lockstep = !liveInput || !options.recordInput.empty();
 
     // Phases, in frame order, only for the subsystems the scene has.
     Profiler& p = m.profiler;
@@ -166,8 +168,9 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
 
     if (s.subsystems & kVehicle) {
         const std::string scriptPath = options.scriptPath.empty() ? s.script : options.scriptPath;
-        if (!scriptPath.empty() && !(s.subsystems & kWindow)) m.script = InputScript::load(scriptPath);
-        else if (!scriptPath.empty() && !options.scriptPath.empty()) m.script = InputScript::load(scriptPath);
+        // In a window the keyboard drives unless a script is named on the command line.
+        const bool live = (s.subsystems & kWindow) && options.scriptPath.empty();
+        if (!scriptPath.empty() && !live) m.script = InputScript::load(scriptPath);
         if (!options.recordInput.empty()) m.recorder.emplace();
         m.vehicle = std::make_unique<VehicleSystem>(s, &m.profiler);
         ++gCounters.bulletWorlds;
@@ -272,10 +275,11 @@ bool Runtime::frame() {
     if (m.view) m.view->renderFrame(m.frame, p, m.ph.render, m.ph.readback, m.ph.write);
     p.endFrame();
     ++m.frame;
-    if (!m.lockstep && m.view && m.view->hasWindow()) {
-        // Pace a live window to the frame rate.
-        const auto next = m.lastWall + std::chrono::duration<double>(1.0 / m.scene.fps);
-        std::this_thread::sleep_until(next);
+    if (m.view && m.view->hasWindow()) {  // a window shows frames at the frame rate
+        m.nextFrame = std::max(m.nextFrame + std::chrono::duration_cast<Clock::duration>(
+                                                 std::chrono::duration<double>(1.0 / m.scene.fps)),
+                               Clock::now() - std::chrono::milliseconds(100));
+        std::this_thread::sleep_until(m.nextFrame);
     }
     return true;
 }
@@ -370,7 +374,7 @@ int runScene(const SceneConfig& scene, const RunOptions& options) {
             drawProgress(rt.frameIndex(), rt.frameCount(),
                          std::chrono::duration<double>(Clock::now() - t0).count());
     if (progress) std::fprintf(stderr, "\n");
-    const int code = rt.finish();
+    int code = rt.finish();
     std::printf("scene %s: %d frames, %.2f s simulated, %.2f s wall\n", scene.name.c_str(),
                 rt.frameIndex(), rt.simTime(), std::chrono::duration<double>(Clock::now() - t0).count());
     if (rt.flag()) {
@@ -382,7 +386,10 @@ int runScene(const SceneConfig& scene, const RunOptions& options) {
     }
     std::printf("%s", rt.profiler().summaryTable().c_str());
     if (!options.outDir.empty()) std::printf("recorded to %s\n", options.outDir.c_str());
-    if (stopRequested()) std::printf("interrupted: outputs are complete up to the last frame\n");
+    if (stopRequested()) {
+        std::printf("interrupted: outputs are complete up to the last frame\n");
+        if (code == 0) code = 130;  // the shell's convention for a run ended by SIGINT
+    }
     return code;
 }
 

@@ -46,6 +46,7 @@ struct SceneView::Impl {
     std::unique_ptr<FrameWriter> writer;
     std::unique_ptr<VideoEncoder> video;
     std::string videoPath;
+    bool readback = false;
 
     void updateCamera();
     std::vector<DrawItem> drawList();
@@ -59,6 +60,7 @@ SceneView::SceneView(const SceneConfig& scene, const RunOptions& options, const 
     m.scene = &scene;
     m.vehicle = vehicle;
     m.flag = flag;
+    m.readback = options.readback;
     const int w = scene.render.width, h = scene.render.height;
     std::string error;
     m.context = (scene.subsystems & kWindow) ? createWindowContext(w, h, "flagsim: " + scene.name, &error)
@@ -226,7 +228,7 @@ void SceneView::renderFrame(int frame, Profiler& profiler, int phRender, int phR
     {
         Profiler::Scope scope(profiler, phReadback);
         // A live window without recording has no use for the pixels: skip the readback.
-        if (m.writer || m.video || !m.context->isWindow()) m.renderer->readPixels(m.pixels);
+        if (m.writer || m.video || m.readback || !m.context->isWindow()) m.renderer->readPixels(m.pixels);
         m.context->present();
     }
     if (phWrite >= 0) {

@@ -1,0 +1,115 @@
+// Recording integrity: an interrupted recording leaves only complete frames and a valid profile;
+// a full disk is a clear error; an existing output folder is not overwritten without --force.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/mount.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "engine/record/frame_writer.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path freshDir(const char* name) {
+    const fs::path d = fs::temp_directory_path() / name;
+    fs::remove_all(d);
+    return d;
+}
+
+// Runs flagsim with the arguments; returns its pid.
+pid_t spawnDemo(const std::vector<std::string>& args) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+        std::vector<char*> argv;
+        static std::string exe = FLAGSIM_EXE;
+        argv.push_back(exe.data());
+        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        std::freopen("/dev/null", "w", stdout);
+        execv(exe.c_str(), argv.data());
+        _exit(127);
+    }
+    return pid;
+}
+
+int waitExit(pid_t pid) {
+    int status = 0;
+    waitpid(pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace
+
+TEST(Recording, InterruptedRunLeavesOnlyCompleteFramesAndAValidProfile) {
+    for (int sig : {SIGINT, SIGTERM}) {
+        const fs::path out = freshDir("flagsim_interrupted");
+        const pid_t pid = spawnDemo({"--scene", "hanging_flag", "--out", out.string(), "--frames", "100000",
+                                     "--width", "320", "--height", "240", "--no-progress"});
+        // Wait until frames are being written, then interrupt.
+        for (int i = 0; i < 200 && !(fs::exists(out / "frames") && !fs::is_empty(out / "frames")); ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        kill(pid, sig);
+        EXPECT_EQ(waitExit(pid), 130) << "signal " << sig;
+
+        int frames = 0;
+        for (const auto& e : fs::directory_iterator(out / "frames")) {
+            const std::string name = e.path().filename().string();
+            EXPECT_EQ(name.rfind("frame_", 0), 0u) << "leftover " << name;
+            int w = 0, h = 0;
+            std::vector<std::uint8_t> rgba;
+            EXPECT_TRUE(engine::readPng(e.path().string(), w, h, rgba)) << name << " does not decode";
+            EXPECT_EQ(w, 320);
+            ++frames;
+        }
+        EXPECT_GT(frames, 0);
+        std::ifstream summaryFile(out / "summary.json");
+        const auto summary = nlohmann::json::parse(summaryFile);
+        EXPECT_EQ(summary["stop_reason"], "interrupted");
+        EXPECT_EQ(summary["recording"]["frames_written"].get<int>(), frames);
+        std::ifstream csv(out / "profile.csv");
+        std::string line;
+        int rows = -1;
+        while (std::getline(csv, line)) ++rows;
+        EXPECT_EQ(rows, summary["frames"].get<int>());
+        EXPECT_EQ(rows, frames);
+    }
+}
+
+TEST(Recording, ExistingOutputFolderNeedsForce) {
+    const fs::path out = freshDir("flagsim_existing");
+    fs::create_directories(out);
+    std::ofstream(out / "keep.txt") << "mine";
+    const pid_t pid = spawnDemo({"--scene", "hanging_flag", "--out", out.string(), "--frames", "2"});
+    EXPECT_EQ(waitExit(pid), 2);
+    EXPECT_FALSE(fs::exists(out / "frames"));
+    EXPECT_TRUE(fs::exists(out / "keep.txt"));
+}
+
+TEST(Recording, FullDiskIsAClearErrorNotACrash) {
+    const fs::path dir = freshDir("flagsim_full");
+    fs::create_directories(dir);
+    if (mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=64k") != 0)
+        GTEST_SKIP() << "cannot mount a small tmpfs here (needs root)";
+    {
+        engine::FrameWriter writer(dir.string(), 256, 256, 2);
+        std::vector<std::uint8_t> noise(256 * 256 * 4);
+        std::uint32_t seed = 1;
+        for (auto& b : noise) b = std::uint8_t((seed = seed * 1664525u + 1013904223u) >> 24);
+        for (int i = 0; i < 10; ++i) writer.push(i, noise);  // ~260 KB each: the disk fills
+        EXPECT_FALSE(writer.finish());
+        EXPECT_NE(writer.error().find("No space left"), std::string::npos) << writer.error();
+        for (const auto& e : fs::directory_iterator(dir))
+            EXPECT_EQ(e.path().filename().string().rfind(".tmp", 0), std::string::npos) << "half-written file left";
+    }
+    umount(dir.c_str());
+}
