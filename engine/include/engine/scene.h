@@ -82,7 +82,7 @@ struct SceneConfig {
 
     struct Render {
         int width = 1280, height = 720;
-        int shadowMapSize = 2048;
+        int shadowMapSize = 1024;
     } render;
 };
 

@@ -30,7 +30,13 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
-SubsystemCounters subsystemCounters() { return gCounters; }
+// Bullet worlds and GL contexts are counted where they are really constructed.
+SubsystemCounters subsystemCounters() {
+    SubsystemCounters c = gCounters;
+    c.bulletWorlds = VehicleSystem::worldsCreated();
+    c.glContexts = SceneView::contextsCreated();
+    return c;
+}
 void installStopHandlers() {
     std::signal(SIGINT, onStopSignal);
     std::signal(SIGTERM, onStopSignal);
@@ -173,7 +179,6 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
         if (!scriptPath.empty() && !live) m.script = InputScript::load(scriptPath);
         if (!options.recordInput.empty()) m.recorder.emplace();
         m.vehicle = std::make_unique<VehicleSystem>(s, &m.profiler);
-        ++gCounters.bulletWorlds;
     }
 
     const RigidFrame carrier = m.carrier();
@@ -209,7 +214,6 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
 
     if (s.subsystems & kRender) {
         m.view = std::make_unique<SceneView>(s, options, m.vehicle.get(), m.flag.get(), m.frames);
-        ++gCounters.glContexts;
         if (s.subsystems & kWindow) ++gCounters.windows;
         if (s.subsystems & kRecording) ++gCounters.frameWriters;
     }

@@ -77,7 +77,7 @@ SceneView::SceneView(const SceneConfig& scene, const RunOptions& options, const 
     Material groundMat;
     groundMat.color = {1, 1, 1};
     groundMat.texture = groundTexture;
-    m.staticItems.push_back({r.addMesh(makeGround(vehicle ? 600.f : 60.f, 4.f), groundMat), Eigen::Matrix4f::Identity()});
+    m.staticItems.push_back({r.addMesh(makeGround(vehicle ? 600.f : 60.f, 4.f), groundMat), Eigen::Matrix4f::Identity(), false});
 
     Material poleMat;
     poleMat.color = {0.75f, 0.75f, 0.78f};
@@ -144,6 +144,7 @@ SceneView::SceneView(const SceneConfig& scene, const RunOptions& options, const 
 }
 
 SceneView::~SceneView() = default;
+int SceneView::contextsCreated() { return GLContext::contextsCreated(); }
 
 bool SceneView::hasWindow() const { return impl_->context->isWindow(); }
 bool SceneView::windowClosed() const { return !impl_->windowOpen; }

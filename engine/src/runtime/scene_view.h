@@ -22,6 +22,7 @@ public:
     SceneView(const SceneConfig& scene, const RunOptions& options, const VehicleSystem* vehicle,
               const Flag* flag, int frames);
     ~SceneView();
+    static int contextsCreated();  // GL contexts ever constructed in this process
 
     bool hasWindow() const;
     bool windowClosed() const;

@@ -13,6 +13,7 @@ SceneView::SceneView(const SceneConfig& scene, const RunOptions&, const VehicleS
                       "' needs 'render', but this build has neither OSMesa nor SDL2");
 }
 SceneView::~SceneView() = default;
+int SceneView::contextsCreated() { return 0; }
 bool SceneView::hasWindow() const { return false; }
 bool SceneView::windowClosed() const { return false; }
 Actions SceneView::pollActions() { return {}; }

@@ -39,6 +39,8 @@ VehicleSystem::VehicleSystem(const SceneConfig& scene, Profiler* profiler) {
     }
 }
 
+int VehicleSystem::worldsCreated() { return VehicleWorld::worldsCreated(); }
+
 VehicleSystem::~VehicleSystem() {
     world_.reset();  // its teardown still reports zones
     VehicleWorld::routeProfileZones(nullptr, nullptr);

@@ -24,6 +24,7 @@ public:
     // Throws ConfigError when this build has no Bullet.
     VehicleSystem(const SceneConfig& scene, Profiler* profiler);
     ~VehicleSystem();
+    static int worldsCreated();  // Bullet worlds ever constructed in this process
 
     void setActions(const Actions& actions);
     void setTickHook(std::function<void(double)> hook);

@@ -13,6 +13,7 @@ VehicleSystem::VehicleSystem(const SceneConfig& scene, Profiler*) {
                       "' needs 'vehicle', but this build has no Bullet (FLAGSIM_WITH_BULLET=OFF)");
 }
 VehicleSystem::~VehicleSystem() = default;
+int VehicleSystem::worldsCreated() { return 0; }
 void VehicleSystem::setActions(const Actions&) {}
 void VehicleSystem::setTickHook(std::function<void(double)>) {}
 void VehicleSystem::stepTick(double) {}

@@ -38,6 +38,7 @@ struct Lighting {
 struct DrawItem {
     int mesh = -1;
     Eigen::Matrix4f model = Eigen::Matrix4f::Identity();
+    bool castsShadow = true;  // the ground receives shadows but need not cast any
 };
 
 class Renderer {
