@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cloth/diagnostics.h"
+#include "fast_kangcho.h"
 
 namespace cloth {
 
@@ -18,7 +19,9 @@ std::string SolverConfig::describe() const {
     std::ostringstream s;
     s << name;
     if (name == "kangcho")
-        s << ":iterations=" << iterations << ",compression=" << (compressionRule ? "on" : "off");
+        s << ":iterations=" << iterations << ",compression=" << (compressionRule ? "on" : "off")
+          << (reference ? ",impl=reference" : "") << (singlePrecision ? ",precision=float" : "")
+          << (threads != 1 ? ",threads=" + std::to_string(threads) : std::string());
     else if (name == "exact" || name == "cg")
         s << ":method=" << (useCG ? "cg" : "cholesky") << ",tolerance=" << tolerance
           << (useCG ? ",max_iterations=" + std::to_string(maxIterations) : std::string())
@@ -72,6 +75,14 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
         const std::string_view value = item.substr(eq + 1);
         bool ok = false;
         if (key == "iterations" && c.name == "kangcho") ok = parseInt(value, c.iterations);
+        else if (key == "threads" && c.name == "kangcho") ok = parseInt(value, c.threads);
+        else if (key == "precision" && c.name == "kangcho") {
+            ok = value == "float" || value == "double";
+            c.singlePrecision = value == "float";
+        } else if (key == "impl" && c.name == "kangcho") {
+            ok = value == "fast" || value == "reference";
+            c.reference = value == "reference";
+        }
         else if (key == "compression" && c.name != "explicit") ok = parseSwitch(value, c.compressionRule);
         else if (key == "tolerance" && (c.name == "exact" || c.name == "cg")) ok = parseDouble(value, c.tolerance);
         else if (key == "max_iterations" && (c.name == "exact" || c.name == "cg")) ok = parseInt(value, c.maxIterations);
@@ -97,6 +108,7 @@ std::string validate(const SolverConfig& c) {
         return "iterations = " + std::to_string(c.iterations) + " must be in [0, 100000]";
     if (!(c.tolerance > 0 && c.tolerance < 1))
         return "tolerance = " + std::to_string(c.tolerance) + " must be in (0, 1)";
+    if (c.threads < 1 || c.threads > 64) return "threads = " + std::to_string(c.threads) + " must be in [1, 64]";
     if (c.maxIterations < 1) return "max_iterations = " + std::to_string(c.maxIterations) + " must be >= 1";
     if (c.substeps < 1 || c.substeps > 100000)
         return "substeps = " + std::to_string(c.substeps) + " must be in [1, 100000]";
@@ -183,17 +195,11 @@ public:
     StepResult step(const Model& model, const Environment& env, State& state,
                     const StepInput& input) override {
         if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
-        auto t0 = Clock::now();
-        buildSystem(model, env, state, input, config_.compressionRule, sys_);
-        profile_.forcesMs = msSince(t0);
-
-        t0 = Clock::now();
         StepResult result;
-        if (!solve(model, result)) result.status = StepStatus::SolverFailed;
-        profile_.solveMs = msSince(t0);
+        if (!computeDv(model, env, state, input, result)) result.status = StepStatus::SolverFailed;
         if (result.status != StepStatus::Ok) return result;
 
-        t0 = Clock::now();
+        const auto t0 = Clock::now();
         const Scalar h = input.h;
         scratch_.v = state.v + dv_;
         scratch_.x = state.x + h * scratch_.v;
@@ -203,17 +209,48 @@ public:
     }
 
 protected:
+    // Fills dv_ and profile_.forcesMs / solveMs. By default: the assembled system, then solve().
+    virtual bool computeDv(const Model& model, const Environment& env, const State& state,
+                           const StepInput& input, StepResult& result) {
+        auto t0 = Clock::now();
+        buildSystem(model, env, state, input, config_.compressionRule, sys_);
+        profile_.forcesMs = msSince(t0);
+        t0 = Clock::now();
+        const bool ok = solve(model, result);
+        profile_.solveMs = msSince(t0);
+        return ok;
+    }
     virtual bool solve(const Model& model, StepResult& result) = 0;
     LinearSystem sys_;
     State scratch_;
 };
 
 // Kang & Cho: dv(0) = W_ii^-1 b_i, then `iterations` Jacobi sweeps (eq. 11); one sweep is eq. 14.
+// The fast path (fast_kangcho.h) computes the same iterates without assembling the system; the
+// reference path assembles it and sweeps over 3x3 blocks (the tests compare the two).
 class KangChoSolver final : public ImplicitSolver {
 public:
-    using ImplicitSolver::ImplicitSolver;
+    explicit KangChoSolver(SolverConfig config) : ImplicitSolver(std::move(config)) {
+        if (config_.reference) return;
+        if (config_.singlePrecision) fastFloat_ = std::make_unique<FastKangCho<float>>(config_.threads);
+        else fastDouble_ = std::make_unique<FastKangCho<double>>(config_.threads);
+    }
 
 protected:
+    bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
+                   StepResult& result) override {
+        if (config_.reference) return ImplicitSolver::computeDv(model, env, state, input, result);
+        const auto t0 = Clock::now();
+        if (fastFloat_)
+            fastFloat_->solve(model, env, state, input, config_.compressionRule, config_.iterations, dv_,
+                              &profile_.forcesMs);
+        else
+            fastDouble_->solve(model, env, state, input, config_.compressionRule, config_.iterations, dv_,
+                               &profile_.forcesMs);
+        profile_.solveMs = msSince(t0) - profile_.forcesMs;
+        result.iterations = config_.iterations;
+        return true;
+    }
     bool solve(const Model& model, StepResult& result) override {
         jacobiStart(sys_, dv_);
         for (int k = 0; k < config_.iterations; ++k) {
@@ -226,6 +263,8 @@ protected:
 
 private:
     Points next_;
+    std::unique_ptr<FastKangCho<float>> fastFloat_;
+    std::unique_ptr<FastKangCho<double>> fastDouble_;
 };
 
 // The reference: the same system solved exactly (sparse Cholesky), or by conjugate gradients

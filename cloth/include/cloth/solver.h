@@ -1,7 +1,8 @@
 #pragma once
 // Solvers behind one small interface, chosen by name with parameters:
 //   kangcho   the paper: Jacobi iterations of the linearized backward Euler system
-//             (iterations=1 by default, any k >= 0; compression=on|off for eq. 17)
+//             (iterations=1 by default, any k >= 0; compression=on|off for eq. 17;
+//             threads=N, precision=double|float, impl=fast|reference)
 //   exact     the same system solved to a relative residual of 1e-10 (sparse Cholesky);
 //             method=cg solves it with conjugate gradients (tolerance=, max_iterations=)
 //   cg        alias of exact with method=cg
@@ -25,6 +26,9 @@ struct SolverConfig {
     Scalar tolerance = 1e-10;      // exact/cg: relative residual
     int maxIterations = 10000;     // cg
     int substeps = 1;              // explicit
+    int threads = 1;               // kangcho: worker threads (results identical for any count)
+    bool singlePrecision = false;  // kangcho: float arithmetic in the step (state stays double)
+    bool reference = false;        // kangcho: the straightforward per-spring 3x3 implementation
     std::string describe() const;  // "kangcho:iterations=1,compression=on"
 };
 

@@ -1,0 +1,38 @@
+#pragma once
+// A small persistent thread pool for data-parallel loops. `run(n, fn)` splits [0, n) into one
+// contiguous chunk per thread; the split depends only on n and the thread count, and each index
+// is processed by exactly one call, so a kernel that writes only its own indices gives the same
+// bits for any thread count. Workers spin briefly, then yield, between jobs: a cloth step has
+// several short parallel regions and a sleeping thread takes longer to wake than a region lasts;
+// after that they sleep on the counter (futex), so an idle pool costs nothing.
+
+#include <atomic>
+#include <functional>
+#include <thread>
+#include <vector>
+
+namespace cloth {
+
+class ThreadPool {
+public:
+    explicit ThreadPool(int threads);
+    ~ThreadPool();
+    ThreadPool(const ThreadPool&) = delete;
+    ThreadPool& operator=(const ThreadPool&) = delete;
+
+    int threads() const { return threads_; }
+    // Calls fn(begin, end) for each chunk; the calling thread takes chunk 0. Returns when all are done.
+    void run(int n, const std::function<void(int, int)>& fn);
+
+private:
+    void worker(int index);
+    int threads_;
+    std::vector<std::thread> workers_;
+    std::atomic<unsigned> generation_{0};
+    std::atomic<int> pending_{0};
+    std::atomic<bool> stop_{false};
+    const std::function<void(int, int)>* job_ = nullptr;
+    int n_ = 0;
+};
+
+}  // namespace cloth
