@@ -1,39 +1,87 @@
-// Cloth step per solver and size. Run through `tools/run bench`.
+// Cloth step per solver and size, fast against reference, float against double, 1 and 2
+// threads, and Bullet's btSoftBody on the same mesh. Run through `tools/run bench`.
+//
+// Every benchmark steps a 33x33-style hanging flag (cloth/presets.h) that has first fallen for
+// 30 steps, so the timed steps see a deformed cloth. Counters: particle_steps/s, and for the
+// strain comparison the max stretch after 240 steps at h = 1/240 s.
 
 #include <benchmark/benchmark.h>
 
+#include "cloth/diagnostics.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
+#ifdef FLAGSIM_HAS_BULLET_PEER
+#include "peer/bullet_cloth.h"
+#endif
 
 namespace {
 
-void stepFlag(benchmark::State& bm, const char* spec) {
+constexpr double kH = 1.0 / 240;
+
+cloth::HangingFlag flagOfSize(int n) {
     cloth::HangingFlagDesc d;
-    d.nx = d.ny = static_cast<int>(bm.range(0));
-    cloth::HangingFlag flag = cloth::makeHangingFlag(d);
+    d.nx = d.ny = n;
+    return cloth::makeHangingFlag(d);
+}
+
+void stepFlag(benchmark::State& bm, const char* spec) {
+    cloth::HangingFlag flag = flagOfSize(static_cast<int>(bm.range(0)));
     cloth::SolverConfig config;
     cloth::parseSolverConfig(spec, config, nullptr);
+    if (bm.range(1) > 0) config.threads = static_cast<int>(bm.range(1));
     auto solver = cloth::makeSolver(config);
     cloth::Environment env;
     cloth::StepInput input;
-    input.h = 1.0 / 60;
+    input.h = kH;
     input.pins = flag.pins;
-    // Let the flag fall into a typical deformed state before timing.
     for (int s = 0; s < 30; ++s) solver->step(flag.model, env, flag.state, input);
     for (auto _ : bm) {
         solver->step(flag.model, env, flag.state, input);
         benchmark::ClobberMemory();
     }
-    bm.counters["particle_steps/s"] = benchmark::Counter(
-        double(flag.model.particleCount()) * bm.iterations(), benchmark::Counter::kIsRate);
+    bm.counters["particle_steps/s"] =
+        benchmark::Counter(double(flag.model.particleCount()) * bm.iterations(), benchmark::Counter::kIsRate);
+    // Strain after a fixed 1 s of simulated time from the start (same for every solver).
+    cloth::HangingFlag fresh = flagOfSize(static_cast<int>(bm.range(0)));
+    auto again = cloth::makeSolver(config);
+    for (int s = 0; s < 240; ++s) again->step(fresh.model, env, fresh.state, input);
+    bm.counters["max_stretch"] = cloth::measure(fresh.model, env, fresh.state, true).maxStretch;
 }
+
+void sizes(benchmark::internal::Benchmark* b) {
+    for (int n : {17, 33, 65, 129, 257}) b->Args({n, 1});
+    for (int n : {65, 129, 257}) b->Args({n, 2});
+}
+
+#ifdef FLAGSIM_HAS_BULLET_PEER
+void stepBullet(benchmark::State& bm) {
+    cloth::HangingFlag flag = flagOfSize(static_cast<int>(bm.range(0)));
+    const int iterations = static_cast<int>(bm.range(1));
+    peer::BulletCloth bullet(flag.model, flag.state, flag.pins, iterations);
+    for (int s = 0; s < 30; ++s) bullet.step(kH);
+    for (auto _ : bm) bullet.step(kH);
+    bm.counters["particle_steps/s"] =
+        benchmark::Counter(double(flag.model.particleCount()) * bm.iterations(), benchmark::Counter::kIsRate);
+    cloth::HangingFlag fresh = flagOfSize(static_cast<int>(bm.range(0)));
+    peer::BulletCloth again(fresh.model, fresh.state, fresh.pins, iterations);
+    for (int s = 0; s < 240; ++s) again.step(kH);
+    again.positions(fresh.state.x);
+    bm.counters["max_stretch"] = cloth::measure(fresh.model, cloth::Environment{}, fresh.state, true).maxStretch;
+}
+#endif
 
 }  // namespace
 
-BENCHMARK_CAPTURE(stepFlag, kangcho_1, "kangcho")->Arg(17)->Arg(33)->Arg(65)->Arg(129)->Arg(257)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, kangcho_4, "kangcho:iterations=4")->Arg(33)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, exact, "exact")->Arg(17)->Arg(33)->Arg(65)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, cg, "cg:tolerance=1e-6")->Arg(33)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, explicit_1, "explicit")->Arg(33)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, kangcho_fast_double, "kangcho")->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, kangcho_fast_float, "kangcho:precision=float")->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, kangcho_reference, "kangcho:impl=reference")->Args({33, 1})->Args({129, 1})->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, kangcho_4_iterations, "kangcho:iterations=4")->Args({33, 1})->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, exact_cholesky, "exact")->Args({17, 1})->Args({33, 1})->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, cg_1e-6, "cg:tolerance=1e-6")->Args({33, 1})->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, explicit_1_substep, "explicit")->Args({33, 1})->Unit(benchmark::kMicrosecond);
+#ifdef FLAGSIM_HAS_BULLET_PEER
+// Bullet's default (1 position iteration, the same count as the paper's one Jacobi sweep) and more.
+BENCHMARK(stepBullet)->Args({33, 1})->Args({33, 4})->Args({33, 10})->Args({129, 1})->Unit(benchmark::kMicrosecond);
+#endif
 
 BENCHMARK_MAIN();

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cloth/diagnostics.h"
+#include "cloth/strain_limit.h"
 #include "fast_kangcho.h"
 
 namespace cloth {
@@ -28,6 +29,9 @@ std::string SolverConfig::describe() const {
           << ",compression=" << (compressionRule ? "on" : "off");
     else if (name == "explicit")
         s << ":substeps=" << substeps;
+    else if (name == "chebyshev")
+        s << ":iterations=" << iterations << ",rho=" << rho;
+    if (strainLimit > 0) s << ",strain_limit=" << strainLimit << ",strain_passes=" << strainLimitPasses;
     return s.str();
 }
 
@@ -61,8 +65,8 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
     const auto colon = spec.find(':');
     c.name = std::string(spec.substr(0, colon));
     if (c.name == "cg") c.useCG = true;
-    if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit")
-        return failWith("unknown solver '" + c.name + "' (known: kangcho, exact, cg, explicit)");
+    if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit" && c.name != "chebyshev")
+        return failWith("unknown solver '" + c.name + "' (known: kangcho, exact, cg, explicit, chebyshev)");
     std::string_view rest = colon == std::string_view::npos ? "" : spec.substr(colon + 1);
     while (!rest.empty()) {
         const auto comma = rest.find(',');
@@ -74,7 +78,10 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
         const std::string key(item.substr(0, eq));
         const std::string_view value = item.substr(eq + 1);
         bool ok = false;
-        if (key == "iterations" && c.name == "kangcho") ok = parseInt(value, c.iterations);
+        if (key == "iterations" && (c.name == "kangcho" || c.name == "chebyshev")) ok = parseInt(value, c.iterations);
+        else if (key == "strain_limit") ok = parseDouble(value, c.strainLimit) && c.strainLimit >= 0 && c.strainLimit < 10;
+        else if (key == "strain_passes") ok = parseInt(value, c.strainLimitPasses) && c.strainLimitPasses >= 1 && c.strainLimitPasses <= 1000;
+        else if (key == "rho" && c.name == "chebyshev") ok = parseDouble(value, c.rho) && c.rho >= 0 && c.rho < 1;
         else if (key == "threads" && c.name == "kangcho") ok = parseInt(value, c.threads);
         else if (key == "precision" && c.name == "kangcho") {
             ok = value == "float" || value == "double";
@@ -102,7 +109,7 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
 }
 
 std::string validate(const SolverConfig& c) {
-    if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit")
+    if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit" && c.name != "chebyshev")
         return "unknown solver '" + c.name + "'";
     if (c.iterations < 0 || c.iterations > 100000)
         return "iterations = " + std::to_string(c.iterations) + " must be in [0, 100000]";
@@ -166,16 +173,23 @@ double msSince(Clock::time_point t0) {
 }
 
 // Writes the step's outcome into `state`, or leaves it untouched when anything is non-finite.
-// Pinned particles land exactly on their targets with their target velocity.
-StepResult commit(const StepInput& input, Scalar h, State& state, State& scratch,
-                  StepResult result) {
+// Pinned particles land exactly on their targets with their target velocity; then the optional
+// anti-stretch pass (pinned particles stay put).
+StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, State& state,
+                  State& scratch, StepResult result) {
     const Index n = static_cast<Index>(state.x.cols());
     for (const Pin& p : input.pins) {
         if (p.particle < 0 || p.particle >= n) continue;
         scratch.x.col(p.particle) = p.x;
         scratch.v.col(p.particle) = p.v;
     }
-    (void)h;
+    if (config.strainLimit > 0 && scratch.x.allFinite()) {
+        static thread_local std::vector<std::uint8_t> pinned;
+        pinned.assign(n, 0);
+        for (const Pin& p : input.pins)
+            if (p.particle >= 0 && p.particle < n) pinned[p.particle] = 1;
+        limitStretch(model, pinned, config.strainLimit, config.strainLimitPasses, input.h, scratch);
+    }
     const Index bad = firstNonFinite(scratch);
     if (bad >= 0) {
         result.status = StepStatus::NonFinite;
@@ -203,7 +217,7 @@ public:
         const Scalar h = input.h;
         scratch_.v = state.v + dv_;
         scratch_.x = state.x + h * scratch_.v;
-        result = commit(input, h, state, scratch_, result);
+        result = commit(model, config_, input, state, scratch_, result);
         profile_.integrateMs = msSince(t0);
         return result;
     }
@@ -296,6 +310,46 @@ protected:
     }
 };
 
+// Jacobi with Chebyshev semi-iterative acceleration (H. Wang, "A Chebyshev Semi-Iterative
+// Approach for Accelerating Projective and Position-based Dynamics", SIGGRAPH Asia 2015):
+//   x(k+1) = w(k+1) (J(x(k)) - x(k-1)) + x(k-1),  w1 = 1, w2 = 2 / (2 - rho^2),
+//   w(k+1) = 4 / (4 - rho^2 w(k)),
+// where J is one Jacobi sweep and rho the spectral radius of the Jacobi iteration. Each iteration
+// costs one sweep, like the paper's; rho is estimated from the system unless given: for springs
+// along a line, h^2 sum_j k_ij / (m_i + h^2 sum_j k_ij) is the scalar Jacobi radius bound.
+class ChebyshevSolver final : public ImplicitSolver {
+public:
+    using ImplicitSolver::ImplicitSolver;
+
+protected:
+    bool solve(const Model& model, StepResult& result) override {
+        Scalar rho = config_.rho;
+        if (rho <= 0) {
+            const Scalar h2 = sys_.h * sys_.h;
+            std::vector<Scalar> ksum(model.particleCount(), 0);
+            for (const Spring& s : model.springs()) ksum[s.i] += s.k, ksum[s.j] += s.k;
+            for (Index i = 0; i < model.particleCount(); ++i)
+                if (!sys_.pinned[i]) rho = std::max(rho, h2 * ksum[i] / (model.masses()[i] + h2 * ksum[i]));
+            rho = std::min(rho, Scalar(0.9999));
+        }
+        jacobiStart(sys_, dv_);
+        prev_ = dv_;
+        Scalar omega = 1;
+        for (int k = 1; k <= config_.iterations; ++k) {
+            jacobiSweep(model, sys_, dv_, next_);
+            omega = k == 1 ? 1 : (k == 2 ? 2 / (2 - rho * rho) : 4 / (4 - rho * rho * omega));
+            next_ = omega * (next_ - prev_) + prev_;  // pinned rows: prescribed in both, unchanged
+            std::swap(prev_, dv_);
+            std::swap(dv_, next_);
+        }
+        result.iterations = config_.iterations;
+        return true;
+    }
+
+private:
+    Points prev_, next_;
+};
+
 // Symplectic Euler with substeps: v += hs f / m, x += hs v. Pinned particles move straight to
 // their targets.
 class ExplicitSolver final : public Solver {
@@ -332,7 +386,7 @@ public:
         }
         auto t0 = Clock::now();
         dv_ = scratch_.v - state.v;
-        StepResult result = commit(input, input.h, state, scratch_, StepResult{});
+        StepResult result = commit(model, config_, input, state, scratch_, StepResult{});
         result.iterations = substeps;
         profile_.integrateMs = msSince(t0);
         return result;
@@ -352,6 +406,7 @@ std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* erro
         return nullptr;
     }
     if (config.name == "kangcho") return std::unique_ptr<Solver>(new KangChoSolver(config));
+    if (config.name == "chebyshev") return std::unique_ptr<Solver>(new ChebyshevSolver(config));
     if (config.name == "exact" || config.name == "cg") {
         SolverConfig c = config;
         if (c.name == "cg") c.useCG = true;

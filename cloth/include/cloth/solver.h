@@ -7,6 +7,10 @@
 //             method=cg solves it with conjugate gradients (tolerance=, max_iterations=)
 //   cg        alias of exact with method=cg
 //   explicit  symplectic Euler with substeps=N
+//   chebyshev Jacobi with Chebyshev semi-iterative acceleration (Wang 2015), iterations=N,
+//             rho= (spectral radius estimate; 0 = estimate from the system each step)
+// Any solver takes strain_limit=S (e.g. 0.1: springs at most 10% over rest length after the step,
+// Provot 1995) and strain_passes=N.
 // A step never throws and never hands back a non-finite state: on failure the state is left as
 // it was before the step and the status says why.
 
@@ -29,6 +33,9 @@ struct SolverConfig {
     int threads = 1;               // kangcho: worker threads (results identical for any count)
     bool singlePrecision = false;  // kangcho: float arithmetic in the step (state stays double)
     bool reference = false;        // kangcho: the straightforward per-spring 3x3 implementation
+    Scalar rho = 0;                // chebyshev: Jacobi spectral radius; 0 = estimated each step
+    Scalar strainLimit = 0;        // any solver: Provot anti-stretch pass, max stretch (0 = off)
+    int strainLimitPasses = 4;
     std::string describe() const;  // "kangcho:iterations=1,compression=on"
 };
 

@@ -142,16 +142,20 @@ static SceneConfig fromJson(const nlohmann::json& root, const std::string& path)
     s.flag.stiffness.bend = k.number("bend", s.flag.stiffness.bend, 0, 1e9);
     const JsonFields solver = f.child("solver");
     solver.allowOnly({"name", "iterations", "compression", "method", "tolerance",
-                      "max_iterations", "substeps"});
+                      "max_iterations", "substeps", "threads", "precision", "strain_limit", "strain_passes"});
     {
         cloth::SolverConfig& c = s.flag.solver;
-        c.name = solver.oneOf("name", c.name, {"kangcho", "exact", "cg", "explicit"});
+        c.name = solver.oneOf("name", c.name, {"kangcho", "exact", "cg", "explicit", "chebyshev"});
         c.iterations = solver.integer("iterations", c.iterations, 0, 100000);
         c.compressionRule = solver.boolean("compression", c.compressionRule);
         c.useCG = solver.oneOf("method", c.name == "cg" ? "cg" : "cholesky", {"cholesky", "cg"}) == "cg";
         c.tolerance = solver.number("tolerance", c.tolerance, 1e-16, 0.5);
         c.maxIterations = solver.integer("max_iterations", c.maxIterations, 1, 1000000);
         c.substeps = solver.integer("substeps", c.substeps, 1, 100000);
+        c.threads = solver.integer("threads", c.threads, 1, 64);
+        c.singlePrecision = solver.oneOf("precision", "double", {"double", "float"}) == "float";
+        c.strainLimit = solver.number("strain_limit", c.strainLimit, 0, 10);
+        c.strainLimitPasses = solver.integer("strain_passes", c.strainLimitPasses, 1, 1000);
     }
     s.flag.drag = f.number("drag", s.flag.drag, 0, 1e3);
     s.flag.thickness = f.number("thickness", s.flag.thickness, 0, 1);

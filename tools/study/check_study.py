@@ -1,0 +1,38 @@
+#!/usr/bin/python3
+"""Checks a study's outputs: every column and every solver family present, figures written.
+
+    tools/study/check_study.py out/study      (exit 1 with the reason when something is missing)
+"""
+import csv
+import os
+import sys
+
+COLUMNS = ["scene", "size", "stiffness", "h", "family", "solver", "ms_per_step", "solve_error", "traj_error_be",
+           "traj_error_fine", "max_stretch", "p99_stretch", "energy_growth", "stable", "fail_step"]
+FAMILIES = {"kangcho", "kangcho_no_eq17", "exact", "cg", "chebyshev", "explicit", "bullet"}
+SCENES = {"hanging_flag", "vehicle_path"}
+
+
+def main():
+    d = sys.argv[1] if len(sys.argv) > 1 else "out/study"
+    with open(os.path.join(d, "error_vs_runtime.csv"), newline="") as f:
+        reader = csv.DictReader(f)
+        rows = list(reader)
+        missing = [c for c in COLUMNS if c not in reader.fieldnames]
+    problems = []
+    if missing:
+        problems.append(f"missing columns: {missing}")
+    if FAMILIES - {r['family'] for r in rows}:
+        problems.append(f"missing solver families: {sorted(FAMILIES - {r['family'] for r in rows})}")
+    if SCENES - {r['scene'] for r in rows}:
+        problems.append(f"missing scenes: {sorted(SCENES - {r['scene'] for r in rows})}")
+    for name in ["error_vs_runtime.png", "stability.png", "extreme.csv"]:
+        if not os.path.isfile(os.path.join(d, name)):
+            problems.append(f"missing {name}")
+    if problems:
+        sys.exit(f"{d}: " + "; ".join(problems))
+    print(f"{d}: {len(rows)} rows, every column, solver family and scene present")
+
+
+if __name__ == "__main__":
+    main()

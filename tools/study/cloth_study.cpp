@@ -1,0 +1,426 @@
+// cloth_study: error against run time, and stability on stiff and extreme cases.
+//
+//   cloth_study [--quick] [--out DIR]      (tools/run study [--quick] runs it and plots)
+//
+// Part 1 (error_vs_runtime.csv): every solver on the same cloth, masses and pins, per scene
+// (hanging flag; flag on a pole following the vehicle path of the demo's `drive` script), size,
+// stiffness and time step. Metrics (words as in ALGORITHM.md):
+//   ms_per_step          median over repeats in this process
+//   solve_error          mean |dv - dv_exact| / |dv_exact| at sampled states (implicit solvers)
+//   traj_error_be        RMS distance to the converged backward Euler run (exact, same h), over
+//                        0.25 s horizons restarted from states along that run, / cloth size
+//   traj_error_fine      the same against exact backward Euler at h/16 (full run, small sizes)
+//   max_stretch, p99_stretch over the run; energy_growth: max (E - E0) / (m g height)
+//   stable, fail_step
+// Part 2 (extreme.csv): the demo's flag (engine::Flag with assets/scenes/flag_vehicle.json) on a
+// carrier driven through extreme motions, per solver configuration: stable or not.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cloth/diagnostics.h"
+#include "cloth/presets.h"
+#include "cloth/solver.h"
+#include "engine/flag.h"
+#include "engine/input_script.h"
+#include "engine/physics/vehicle_world.h"
+#include "engine/scene.h"
+#include "peer/bullet_cloth.h"
+
+using cloth::Points;
+using cloth::State;
+using cloth::Vec3;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// A pole pose over time: position and velocity of its top, and its rotation (the flag's
+// pinned column hangs from the top along the pole).
+struct PolePath {
+    std::vector<Eigen::Isometry3d> pose;  // per step of the finest h used with it
+    std::vector<Vec3> linear, angular;
+    double dt = 0;
+};
+
+// The chassis path of the demo's drive script, from the demo's own vehicle (Bullet).
+PolePath drivePath(double duration) {
+    const engine::InputScript script = engine::InputScript::load(std::string(FLAGSIM_ASSETS_DIR) + "/scripts/drive.json");
+    engine::VehicleWorld world({});
+    PolePath p;
+    p.dt = 1.0 / 960;
+    for (int k = 0; k * p.dt <= duration + 1e-9; ++k) {
+        const engine::Actions a = script.sample(k * p.dt);
+        world.setControls({a.throttle, a.brake, a.steer, a.handbrake});
+        world.stepTick(p.dt);
+        const engine::RigidPose c = world.chassis();
+        Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+        t.linear() = c.rotation.toRotationMatrix();
+        t.translation() = c.position;
+        p.pose.push_back(t);
+        p.linear.push_back(c.linearVelocity);
+        p.angular.push_back(c.angularVelocity);
+    }
+    return p;
+}
+
+struct Scene {
+    std::string name;
+    const PolePath* path = nullptr;  // null: fixed pole
+};
+
+// Pins of column 0 for the carrier pose at time t (rest positions in the carrier frame).
+std::vector<cloth::Pin> pinsAt(const cloth::Model& m, const Scene& s, double t) {
+    std::vector<cloth::Pin> pins = cloth::pinColumn(m);
+    if (!s.path) return pins;
+    const std::size_t k = std::min(s.path->pose.size() - 1, std::size_t(std::lround(t / s.path->dt)));
+    const Eigen::Isometry3d& T = s.path->pose[k];
+    for (cloth::Pin& p : pins) {
+        const Vec3 local = m.restPositions().col(p.particle);
+        p.x = T * local;
+        p.v = s.path->linear[k] + s.path->angular[k].cross(p.x - T.translation());
+    }
+    return pins;
+}
+
+State startState(const cloth::Model& m, const Scene& s) {
+    State st = State::atRest(m);
+    if (s.path) {
+        const Eigen::Isometry3d& T = s.path->pose[0];
+        for (cloth::Index i = 0; i < m.particleCount(); ++i) st.x.col(i) = T * Vec3(m.restPositions().col(i));
+    }
+    return st;
+}
+
+// One stepping method: a cloth::Solver by spec, or Bullet's btSoftBody.
+struct Method {
+    std::string family, spec;
+    bool bullet = false;
+    int bulletIterations = 1;
+};
+
+struct Runner {
+    const cloth::Model& model;
+    cloth::Environment env;
+    std::unique_ptr<cloth::Solver> solver;
+    std::unique_ptr<peer::BulletCloth> bullet;
+    State state;
+    bool ok = true;
+    Runner(const cloth::Model& m, const Method& method, const State& s, const std::vector<cloth::Pin>& pins)
+        : model(m), state(s) {
+        if (method.bullet) bullet = std::make_unique<peer::BulletCloth>(m, s, pins, method.bulletIterations);
+        else {
+            cloth::SolverConfig c;
+            cloth::parseSolverConfig(method.spec, c, nullptr);
+            solver = cloth::makeSolver(c);
+        }
+    }
+    void step(double h, const std::vector<cloth::Pin>& pins) {
+        if (bullet) {  // Bullet pins are fixed nodes: move them to their targets by hand
+            bullet->step(h);
+            bullet->positions(state.x);
+            return;
+        }
+        cloth::StepInput in;
+        in.h = h;
+        in.pins = pins;
+        ok = ok && solver->step(model, env, state, in).status == cloth::StepStatus::Ok;
+    }
+};
+
+struct Row {
+    std::string scene, family, solver;
+    int size;
+    double k, h;
+    double ms = NAN, solveErr = NAN, trajBE = NAN, trajFine = NAN, maxStretch = NAN, p99Stretch = NAN,
+           energyGrowth = NAN;
+    bool stable = true;
+    int failStep = -1;
+};
+
+double energy(const cloth::Model& m, const cloth::Environment& env, const State& s) {
+    const cloth::Diagnostics d = cloth::measure(m, env, s);
+    return d.kinetic + d.potential;
+}
+
+double rms(const Points& a, const Points& b) { return std::sqrt((a - b).colwise().squaredNorm().mean()); }
+
+Row runOne(const Scene& scene, int n, double k, double h, const Method& method, double duration,
+           const std::vector<State>& reference, bool fine, const std::vector<State>& fineRef, int fineEvery) {
+    cloth::HangingFlagDesc d;
+    d.nx = d.ny = n;
+    d.stiffness = {k, k, k / 10};
+    const cloth::HangingFlag flag = cloth::makeHangingFlag(d);
+    const cloth::Model& m = flag.model;
+    Row r{scene.name, method.family, method.bullet ? "bullet:iterations=" + std::to_string(method.bulletIterations) : method.spec, n, k, h};
+    const int steps = int(std::lround(duration / h));
+    const State start = startState(m, scene);
+    Runner run(m, method, start, pinsAt(m, scene, 0));
+    const double scale = m.totalMass() * 9.81 * d.height;
+    const double e0 = energy(m, run.env, start);
+    double maxGrowth = 0, maxStretch = 0, p99 = 0, errSum = 0;
+    int errCount = 0;
+    std::vector<double> stepMs;
+    for (int s = 0; s < steps; ++s) {
+        const auto pins = pinsAt(m, scene, (s + 1) * h);
+        const bool sample = !method.bullet && method.family != "explicit" && s % std::max(1, steps / 6) == 3;
+        State before;
+        if (sample) before = run.state;
+        const auto t0 = Clock::now();
+        run.step(h, pins);
+        stepMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        const cloth::Diagnostics diag = cloth::measure(m, run.env, run.state, true);
+        // Bounds are measured from the pole top (particle 0, pinned), wherever the pole is.
+        if (!run.ok || cloth::instability(diag, run.state, run.state.x.col(0))) {
+            r.stable = false;
+            r.failStep = s;
+            break;
+        }
+        maxStretch = std::max(maxStretch, diag.maxStretch);
+        p99 = std::max(p99, diag.p99Stretch);
+        if (!scene.path) maxGrowth = std::max(maxGrowth, (energy(m, run.env, run.state) - e0) / scale);
+        if (sample) {
+            cloth::StepInput in;
+            in.h = h;
+            in.pins = pins;
+            errSum += cloth::solveError(m, run.env, before, in, true, run.solver->lastDv());
+            ++errCount;
+        }
+    }
+    std::nth_element(stepMs.begin(), stepMs.begin() + stepMs.size() / 2, stepMs.end());
+    r.ms = stepMs.empty() ? NAN : stepMs[stepMs.size() / 2];
+    r.maxStretch = maxStretch;
+    r.p99Stretch = p99;
+    r.energyGrowth = scene.path ? NAN : maxGrowth;
+    if (errCount) r.solveErr = errSum / errCount;
+    if (!r.stable || method.bullet) return r;
+
+    // Trajectory errors over 0.25 s horizons restarted along the reference run.
+    auto horizonError = [&](const std::vector<State>& ref, int every) {
+        const int horizon = std::max(1, int(std::lround(0.25 / h)));
+        double sum = 0;
+        int count = 0;
+        for (int startStep = 0; startStep + horizon < int(ref.size()) / every; startStep += horizon) {
+            Runner hr(m, method, ref[std::size_t(startStep) * every], {});
+            for (int s = startStep; s < startStep + horizon; ++s) {
+                hr.step(h, pinsAt(m, scene, (s + 1) * h));
+                if (!hr.ok) return double(NAN);
+                const double e = rms(hr.state.x, ref[std::size_t(s + 1) * every].x);
+                sum += e * e;
+                ++count;
+            }
+        }
+        return count ? std::sqrt(sum / count) / d.width : double(NAN);
+    };
+    if (!reference.empty()) r.trajBE = horizonError(reference, 1);
+    if (fine && !fineRef.empty()) r.trajFine = horizonError(fineRef, fineEvery);
+    return r;
+}
+
+std::vector<State> referenceRun(const Scene& scene, int n, double k, double h, double duration) {
+    cloth::HangingFlagDesc d;
+    d.nx = d.ny = n;
+    d.stiffness = {k, k, k / 10};
+    const cloth::HangingFlag flag = cloth::makeHangingFlag(d);
+    Runner run(flag.model, {"exact", "exact"}, startState(flag.model, scene), {});
+    std::vector<State> states{run.state};
+    const int steps = int(std::lround(duration / h));
+    for (int s = 0; s < steps; ++s) {
+        run.step(h, pinsAt(flag.model, scene, (s + 1) * h));
+        if (!run.ok) return {};
+        states.push_back(run.state);
+    }
+    return states;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Extreme cases for the demo's flag.
+
+struct Extreme {
+    std::string name;
+    double duration;
+    std::function<engine::RigidFrame(double)> carrier;  // pose and velocity at time t
+    double massScale = 1, wind = 0;
+};
+
+std::vector<Extreme> extremes() {
+    using engine::RigidFrame;
+    std::vector<Extreme> e;
+    e.push_back({"speed_50mps", 4, [](double t) {  // 0 -> 50 m/s in 2 s, then cruise
+                     RigidFrame c;
+                     const double a = 25, v = std::min(t, 2.0) * a;
+                     const double x = t < 2 ? 0.5 * a * t * t : 50 + 50 * (t - 2);
+                     c.position = Vec3(0, 0, x);
+                     c.linearVelocity = Vec3(0, 0, v);
+                     return c;
+                 }});
+    e.push_back({"stop_10g", 3, [](double t) {  // cruise at 30 m/s, stop at 10 g at t = 1.5 s
+                     RigidFrame c;
+                     const double a = 98.1, t0 = 1.5, stopT = 30 / a;
+                     double v = 30, x = 30 * t;
+                     if (t > t0) {
+                         const double s = std::min(t - t0, stopT);
+                         v = 30 - a * s;
+                         x = 30 * t0 + 30 * s - 0.5 * a * s * s;
+                     }
+                     c.position = Vec3(0, 0, x);
+                     c.linearVelocity = Vec3(0, 0, v);
+                     return c;
+                 }});
+    e.push_back({"spin_5radps", 3, [](double t) {  // spin about the vertical up to 5 rad/s
+                     RigidFrame c;
+                     const double w = 5 * std::min(t / 0.5, 1.0);
+                     const double angle = t < 0.5 ? 5 * t * t : 1.25 + 5 * (t - 0.5);
+                     c.rotation = Eigen::AngleAxisd(angle, Vec3::UnitY());
+                     c.angularVelocity = Vec3(0, w, 0);
+                     return c;
+                 }});
+    e.push_back({"teleport_1m", 2, [](double t) {  // the pole jumps 1 m sideways in one step
+                     RigidFrame c;
+                     if (t >= 0.5) c.position = Vec3(1, 0, 0);
+                     return c;
+                 }});
+    e.push_back({"light_particles", 3, [](double t) {  // 1/100 of the mass, driven at 20 m/s
+                     RigidFrame c;
+                     c.position = Vec3(0, 0, 20 * t);
+                     c.linearVelocity = Vec3(0, 0, 20);
+                     return c;
+                 }, 0.01});
+    e.push_back({"gale_40mps", 3, [](double) { return RigidFrame{}; }, 1, 40});
+    return e;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    bool quick = false, extremesOnly = false;
+    std::string out = "out/study";
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--quick") quick = true;
+        else if (a == "--extremes-only") extremesOnly = true;
+        else if (a == "--out" && i + 1 < argc) out = argv[++i];
+        else {
+            std::fprintf(stderr, "usage: cloth_study [--quick] [--extremes-only] [--out DIR]\n");
+            return 2;
+        }
+    }
+    std::filesystem::create_directories(out);
+    const auto t0 = Clock::now();
+    const double duration = quick ? 0.5 : 1.5;
+    const PolePath path = drivePath(12.0);
+    const Scene hanging{"hanging_flag", nullptr}, vehicle{"vehicle_path", &path};
+
+    std::vector<Method> methods = {{"kangcho", "kangcho:iterations=1"}, {"kangcho", "kangcho:iterations=0"},
+                                   {"kangcho", "kangcho:iterations=2"}, {"kangcho", "kangcho:iterations=3"},
+                                   {"kangcho", "kangcho:iterations=4"}, {"kangcho", "kangcho:iterations=8"},
+                                   {"kangcho", "kangcho:iterations=16"},
+                                   {"kangcho_no_eq17", "kangcho:iterations=1,compression=off"},
+                                   {"kangcho_no_eq17", "kangcho:iterations=4,compression=off"},
+                                   {"exact", "exact"},
+                                   {"cg", "cg:max_iterations=2"}, {"cg", "cg:max_iterations=5"},
+                                   {"cg", "cg:max_iterations=20"},
+                                   {"chebyshev", "chebyshev:iterations=3"}, {"chebyshev", "chebyshev:iterations=8"},
+                                   {"explicit", "explicit:substeps=1"}, {"explicit", "explicit:substeps=10"},
+                                   {"explicit", "explicit:substeps=100"}};
+    methods.push_back({"bullet", "", true, 1});
+    methods.push_back({"bullet", "", true, 10});
+
+    struct Config {
+        const Scene* scene;
+        int n;
+        double k, h;
+    };
+    std::vector<Config> configs;
+    const std::vector<int> sizes = quick ? std::vector<int>{17, 33} : std::vector<int>{17, 33, 65};
+    for (const Scene* s : {&hanging, &vehicle})
+        for (int n : sizes)
+            if (!(quick && s == &vehicle && n > 17)) configs.push_back({s, n, 1e4, 1.0 / 240});
+    for (double k : quick ? std::vector<double>{1e1, 1e3, 1e5} : std::vector<double>{1e1, 1e2, 1e3, 1e4, 1e5, 1e6})
+        for (double h : quick ? std::vector<double>{1.0 / 1000, 1.0 / 60, 1.0 / 15}
+                              : std::vector<double>{1.0 / 1000, 1.0 / 240, 1.0 / 60, 1.0 / 30, 1.0 / 15})
+            configs.push_back({&hanging, 17, k, h});
+
+    if (extremesOnly) configs.clear();
+    std::ofstream csv(out + (extremesOnly ? "/unused.csv" : "/error_vs_runtime.csv"));
+    csv << "scene,size,stiffness,h,family,solver,ms_per_step,solve_error,traj_error_be,traj_error_fine,"
+           "max_stretch,p99_stretch,energy_growth,stable,fail_step\n";
+    for (const Config& c : configs) {
+        const auto ref = referenceRun(*c.scene, c.n, c.k, c.h, duration);
+        const bool fine = c.n == 17 && c.h >= 1.0 / 240 && (!quick || c.k == 1e4);
+        std::vector<State> fineRef;
+        if (fine) fineRef = referenceRun(*c.scene, c.n, c.k, c.h / 16, duration);
+        for (const Method& method : methods) {
+            if (method.bullet && c.scene->path) continue;  // Bullet's pins are fixed nodes
+            // The scan over stiffness and time step keeps the cheap methods; explicit with 100
+            // substeps at h = 1/15 is still unstable and only costs time.
+            const Row r = runOne(*c.scene, c.n, c.k, c.h, method, duration, ref, fine, fineRef, 16);
+            char line[512];
+            std::snprintf(line, sizeof line, "%s,%d,%g,%g,%s,\"%s\",%.5g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%d,%d\n",
+                          r.scene.c_str(), r.size, r.k, r.h, r.family.c_str(), r.solver.c_str(), r.ms, r.solveErr,
+                          r.trajBE, r.trajFine, r.maxStretch, r.p99Stretch, r.energyGrowth, r.stable ? 1 : 0,
+                          r.failStep);
+            csv << line;
+        }
+        std::fprintf(stderr, "\r%s %dx%d k=%g h=%g done (%.0f s)      ", c.scene->name.c_str(), c.n, c.n, c.k, c.h,
+                     std::chrono::duration<double>(Clock::now() - t0).count());
+    }
+    csv.close();
+
+    // Part 2: the demo's flag through extreme carrier motions.
+    engine::SceneConfig demo = engine::loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/flag_vehicle.json");
+    std::ofstream ext(out + "/extreme.csv");
+    ext << "case,config,stable,failures,max_stretch,max_speed\n";
+    struct Variant {
+        std::string name, solver;
+        int substeps;
+    };
+    std::vector<Variant> variants = {{"demo_default", demo.flag.solver.describe(), demo.flag.substeps},
+                                     {"kangcho_1", "kangcho:iterations=1", 1},
+                                     {"kangcho_1_substeps_4", "kangcho:iterations=1", 4},
+                                     {"kangcho_1_strain_10pct", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 1},
+                                     {"kangcho_1_strain_10pct_substeps_4", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 4},
+                                     {"kangcho_2", "kangcho:iterations=2", 1},
+                                     {"cg_5", "cg:max_iterations=5", 1},
+                                     {"explicit_10", "explicit:substeps=10", 1}};
+    if (!quick) variants.push_back({"exact", "exact", 1});
+    for (const Extreme& x : extremes())
+        for (const Variant& v : variants) {
+            engine::SceneConfig s = demo;
+            cloth::parseSolverConfig(v.solver, s.flag.solver, nullptr);
+            s.flag.substeps = v.substeps;
+            s.flag.mass *= x.massScale;
+            s.air.wind = Vec3(x.wind, 0, 0);
+            engine::PoleMount mount;
+            mount.base = Vec3(0, 0, 0);
+            mount.height = demo.vehicle.poleHeight;
+            engine::Flag flag(s, mount, x.carrier(0));
+            const double h = 1.0 / s.physicsHz;
+            double maxStretch = 0, maxSpeed = 0;
+            bool stable = true;
+            for (int k = 1; k * h <= x.duration + 1e-9; ++k) {
+                const engine::RigidFrame c = x.carrier(k * h);
+                flag.tick(h, c, {flag.poleCollider(c)});
+                const cloth::Diagnostics d = cloth::measure(flag.model(), {}, flag.state(), true);
+                maxStretch = std::max(maxStretch, d.maxStretch);
+                for (cloth::Index i = 0; i < flag.model().particleCount(); ++i)
+                    maxSpeed = std::max(maxSpeed, (flag.state().v.col(i) - c.linearVelocity).norm());
+                if (cloth::instability(d, flag.state(), c.point(Vec3(0, mount.height, 0)))) stable = false;
+            }
+            stable = stable && flag.failures() == 0;
+            char line[256];
+            std::snprintf(line, sizeof line, "%s,%s,%d,%d,%.4g,%.4g\n", x.name.c_str(), v.name.c_str(), stable ? 1 : 0,
+                          flag.failures(), maxStretch, maxSpeed);
+            ext << line;
+        }
+    std::fprintf(stderr, "\nstudy done in %.0f s: %s/error_vs_runtime.csv, %s/extreme.csv\n",
+                 std::chrono::duration<double>(Clock::now() - t0).count(), out.c_str(), out.c_str());
+    return 0;
+}

@@ -1,0 +1,96 @@
+#!/usr/bin/python3
+"""Plots the study: error against run time (with the Pareto front) and stability maps.
+
+    tools/study/plot_study.py out/study        (reads error_vs_runtime.csv, writes the PNGs)
+"""
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def num(x):
+    try:
+        v = float(x)
+        return v if math.isfinite(v) else None
+    except ValueError:
+        return None
+
+
+def main():
+    d = sys.argv[1] if len(sys.argv) > 1 else "out/study"
+    with open(os.path.join(d, "error_vs_runtime.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    families = sorted({r["family"] for r in rows})
+    colors = {f: plt.cm.tab10(i % 10) for i, f in enumerate(families)}
+
+    # Error against run time: the configurations every solver ran (k = 1e4, h = 1/240).
+    panels = sorted({(r["scene"], r["size"]) for r in rows if float(r["stiffness"]) == 1e4})
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4.8), squeeze=False)
+    for ax, (scene, size) in zip(axes[0], panels):
+        pts = []
+        for r in rows:
+            if (r["scene"], r["size"]) != (scene, size) or float(r["stiffness"]) != 1e4:
+                continue
+            ms, err = num(r["ms_per_step"]), num(r["traj_error_be"])
+            if r["stable"] != "1" or ms is None or err is None or err <= 0:
+                continue
+            pts.append((ms, err, r["family"], r["solver"]))
+            ax.scatter(ms, err, color=colors[r["family"]], s=28, zorder=3)
+            ax.annotate(r["solver"].split(":", 1)[-1][:22], (ms, err), fontsize=6, alpha=0.7)
+        front, best = [], float("inf")
+        for ms, err, _, _ in sorted(pts):
+            if err < best:
+                front.append((ms, err))
+                best = err
+        if front:
+            ax.plot(*zip(*front), color="black", linestyle="--", linewidth=1, label="Pareto front", zorder=2)
+        for fam in families:
+            ax.scatter([], [], color=colors[fam], label=fam)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("ms per step (median)")
+        ax.set_ylabel("trajectory error vs converged backward Euler / size")
+        ax.set_title(f"{scene} {size}x{size}, k = 1e4 N/m, h = 1/240 s\n(unstable runs left out)", fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "error_vs_runtime.png"), dpi=90)
+
+    # Stability: stiffness against h per solver, coloured by max stretch, blow-ups marked.
+    scan = [r for r in rows if r["scene"] == "hanging_flag" and r["size"] == "17"]
+    solvers = sorted({r["solver"] for r in scan})
+    cols = 5
+    nrows = math.ceil(len(solvers) / cols)
+    fig, axes = plt.subplots(nrows, cols, figsize=(3.2 * cols, 2.8 * nrows), squeeze=False)
+    for ax, solver in zip(axes.flat, solvers):
+        for r in scan:
+            if r["solver"] != solver:
+                continue
+            k, h = float(r["stiffness"]), float(r["h"])
+            if r["stable"] == "1":
+                s = num(r["max_stretch"]) or 0
+                sc = ax.scatter(h, k, c=[min(s, 1.0)], cmap="viridis", vmin=0, vmax=1, s=60)
+            else:
+                ax.scatter(h, k, marker="x", color="red", s=60)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(solver[:34], fontsize=7)
+        ax.tick_params(labelsize=6)
+    for ax in list(axes.flat)[len(solvers):]:
+        ax.axis("off")
+    fig.supxlabel("time step h (s)")
+    fig.supylabel("stiffness k (N/m)")
+    fig.suptitle("Hanging flag 17x17: colour = max stretch (0..1), red x = blew up", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "stability.png"), dpi=90)
+    print(os.path.join(d, "error_vs_runtime.png"), os.path.join(d, "stability.png"))
+
+
+if __name__ == "__main__":
+    main()
