@@ -2,6 +2,7 @@
 """Checks a study's outputs: every column and every solver family present, figures written.
 
     tools/study/check_study.py out/study      (exit 1 with the reason when something is missing)
+    tools/study/check_study.py --extremes DIR (only: the demo's default is stable in every extreme case)
 """
 import csv
 import os
@@ -13,7 +14,20 @@ FAMILIES = {"kangcho", "kangcho_no_eq17", "exact", "cg", "chebyshev", "explicit"
 SCENES = {"hanging_flag", "vehicle_path"}
 
 
+def check_extremes(d):
+    """Every extreme case must be stable with the demo's default configuration."""
+    with open(os.path.join(d, "extreme.csv"), newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r["config"] == "demo_default"]
+    cases = {"speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"}
+    bad = [r["case"] for r in rows if r["stable"] != "1"] + sorted(cases - {r["case"] for r in rows})
+    if bad:
+        sys.exit(f"{d}/extreme.csv: the demo's default configuration is not stable in: {bad}")
+    print(f"{d}/extreme.csv: the demo's default configuration is stable in all {len(rows)} extreme cases")
+
+
 def main():
+    if len(sys.argv) > 2 and sys.argv[1] == "--extremes":
+        return check_extremes(sys.argv[2])
     d = sys.argv[1] if len(sys.argv) > 1 else "out/study"
     with open(os.path.join(d, "error_vs_runtime.csv"), newline="") as f:
         reader = csv.DictReader(f)
@@ -32,6 +46,7 @@ def main():
     if problems:
         sys.exit(f"{d}: " + "; ".join(problems))
     print(f"{d}: {len(rows)} rows, every column, solver family and scene present")
+    check_extremes(d)
 
 
 if __name__ == "__main__":

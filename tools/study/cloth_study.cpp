@@ -377,7 +377,7 @@ int main(int argc, char** argv) {
     // Part 2: the demo's flag through extreme carrier motions.
     engine::SceneConfig demo = engine::loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/flag_vehicle.json");
     std::ofstream ext(out + "/extreme.csv");
-    ext << "case,config,stable,failures,max_stretch,max_speed\n";
+    ext << "case,config,stable,failures,max_stretch,late_max_stretch,max_speed\n";
     struct Variant {
         std::string name, solver;
         int substeps;
@@ -403,21 +403,29 @@ int main(int argc, char** argv) {
             mount.height = demo.vehicle.poleHeight;
             engine::Flag flag(s, mount, x.carrier(0));
             const double h = 1.0 / s.physicsHz;
-            double maxStretch = 0, maxSpeed = 0;
+            // Stable: finite and bounded throughout (positions within 100 m of the pole, speeds
+            // under 1000 m/s), no failed cloth step, and strain back under 50% over the last
+            // second: a teleport stretches the springs at the pole for a step by definition;
+            // what matters is that the flag recovers instead of blowing up.
+            double maxStretch = 0, maxSpeed = 0, lateStretch = 0;
             bool stable = true;
             for (int k = 1; k * h <= x.duration + 1e-9; ++k) {
                 const engine::RigidFrame c = x.carrier(k * h);
                 flag.tick(h, c, {flag.poleCollider(c)});
                 const cloth::Diagnostics d = cloth::measure(flag.model(), {}, flag.state(), true);
                 maxStretch = std::max(maxStretch, d.maxStretch);
+                if (k * h > x.duration - 1) lateStretch = std::max(lateStretch, d.maxStretch);
                 for (cloth::Index i = 0; i < flag.model().particleCount(); ++i)
                     maxSpeed = std::max(maxSpeed, (flag.state().v.col(i) - c.linearVelocity).norm());
-                if (cloth::instability(d, flag.state(), c.point(Vec3(0, mount.height, 0)))) stable = false;
+                cloth::StabilityLimits limits;
+                limits.maxStretch = 1e9;  // judged on the last second below
+                if (cloth::instability(d, flag.state(), c.point(Vec3(0, mount.height, 0)), limits)) stable = false;
             }
+            stable = stable && lateStretch < 0.5;
             stable = stable && flag.failures() == 0;
             char line[256];
-            std::snprintf(line, sizeof line, "%s,%s,%d,%d,%.4g,%.4g\n", x.name.c_str(), v.name.c_str(), stable ? 1 : 0,
-                          flag.failures(), maxStretch, maxSpeed);
+            std::snprintf(line, sizeof line, "%s,%s,%d,%d,%.4g,%.4g,%.4g\n", x.name.c_str(), v.name.c_str(),
+                          stable ? 1 : 0, flag.failures(), maxStretch, lateStretch, maxSpeed);
             ext << line;
         }
     std::fprintf(stderr, "\nstudy done in %.0f s: %s/error_vs_runtime.csv, %s/extreme.csv\n",
