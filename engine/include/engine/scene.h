@@ -75,7 +75,8 @@ struct SceneConfig {
 
     struct Camera {
         std::string mode = "chase";  // chase | fixed
-        double distance = 9, height = 3.5, fov = 50;  // chase
+        double distance = 7, height = 3.0, fov = 50;  // chase: behind, above
+        double side = 4;                               // chase: to the left, so the flag shows its face
         double smoothing = 0.1;      // chase: fraction of the gap closed per frame
         Vec3d eye = {4, 3, 6}, target = {0.75, 1.8, 0};  // fixed
     } camera;

@@ -171,10 +171,11 @@ static SceneConfig fromJson(const nlohmann::json& root, const std::string& path)
     s.air.frictionCoefficient = a.number("friction_coefficient", s.air.frictionCoefficient, 0, 100);
 
     const JsonFields c = top.child("camera");
-    c.allowOnly({"mode", "distance", "height", "fov", "smoothing", "eye", "target"});
+    c.allowOnly({"mode", "distance", "height", "side", "fov", "smoothing", "eye", "target"});
     s.camera.mode = c.oneOf("mode", s.camera.mode, {"chase", "fixed"});
     s.camera.distance = c.number("distance", s.camera.distance, 0.1, 1000);
     s.camera.height = c.number("height", s.camera.height, -1000, 1000);
+    s.camera.side = c.number("side", s.camera.side, -1000, 1000);
     s.camera.fov = c.number("fov", s.camera.fov, 5, 170);
     s.camera.smoothing = c.number("smoothing", s.camera.smoothing, 0.001, 1);
     s.camera.eye = c.vec3("eye", s.camera.eye, -1e4, 1e4);

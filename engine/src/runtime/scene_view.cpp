@@ -169,8 +169,10 @@ void SceneView::Impl::updateCamera() {
     forward.y() = 0;
     if (forward.norm() < 1e-6) forward = Eigen::Vector3d::UnitZ();
     forward.normalize();
-    const Eigen::Vector3f target = (t.translation() + Eigen::Vector3d(0, 1.2, 0)).cast<float>();
-    const Eigen::Vector3f eye = (t.translation() - c.distance * forward + Eigen::Vector3d(0, c.height, 0)).cast<float>();
+    const Eigen::Vector3f target = (t.translation() + Eigen::Vector3d(0, 2.0, 0)).cast<float>();
+    const Eigen::Vector3d left = Eigen::Vector3d::UnitY().cross(forward);
+    const Eigen::Vector3f eye =
+        (t.translation() - c.distance * forward + c.side * left + Eigen::Vector3d(0, c.height, 0)).cast<float>();
     if (!cameraStarted) {
         camera.eye = eye;
         camera.target = target;
