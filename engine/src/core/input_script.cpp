@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/json_fields.h"
+#include "engine/atomic_file.h"
 
 namespace engine {
 
@@ -89,22 +90,8 @@ bool InputScript::save(const std::string& path, std::string* error) const {
                         {"steer", k.actions.steer},
                         {"handbrake", k.actions.handbrake}});
     root["keyframes"] = std::move(list);
-    const std::string tmp = path + ".tmp";
-    {
-        std::ofstream out(tmp);
-        out << root.dump(1) << "\n";  // doubles are written so that they read back exactly
-        if (!out.flush()) {
-            if (error) *error = path + ": cannot write input script";
-            std::remove(tmp.c_str());
-            return false;
-        }
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        if (error) *error = path + ": cannot rename the written script into place";
-        std::remove(tmp.c_str());
-        return false;
-    }
-    return true;
+    // Doubles are written so that they read back exactly.
+    return writeFileAtomically(path, root.dump(1) + "\n", error);
 }
 
 void InputRecorder::record(double t, const Actions& a) {

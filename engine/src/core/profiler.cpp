@@ -1,5 +1,7 @@
 #include "engine/profiler.h"
 
+#include "engine/atomic_file.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -73,34 +75,22 @@ std::vector<Profiler::Stats> Profiler::summary() const {
 }
 
 bool Profiler::writeCsv(const std::string& path, std::string* error) const {
-    const std::string tmp = path + ".tmp";
-    {
-        std::ofstream out(tmp);
-        out << "frame_index";
-        for (const auto& c : columns()) out << "," << c;
-        out << "\n";
-        char buf[32];
-        for (std::size_t f = 0; f < rows_.size(); ++f) {
-            out << f;
-            const auto& row = rows_[f];
-            for (std::size_t c = 0; c < names_.size(); ++c) {
-                std::snprintf(buf, sizeof buf, ",%.4f", c < row.size() - 1 ? row[c] : 0.0);
-                out << buf;
-            }
-            std::snprintf(buf, sizeof buf, ",%.4f", row.back());
-            out << buf << "\n";
+    std::ostringstream out;
+    out << "frame_index";
+    for (const auto& c : columns()) out << "," << c;
+    out << "\n";
+    char buf[32];
+    for (std::size_t f = 0; f < rows_.size(); ++f) {
+        out << f;
+        const auto& row = rows_[f];
+        for (std::size_t c = 0; c < names_.size(); ++c) {
+            std::snprintf(buf, sizeof buf, ",%.4f", c < row.size() - 1 ? row[c] : 0.0);
+            out << buf;
         }
-        if (!out.flush()) {
-            if (error) *error = path + ": cannot write the profile (disk full?)";
-            std::remove(tmp.c_str());
-            return false;
-        }
+        std::snprintf(buf, sizeof buf, ",%.4f", row.back());
+        out << buf << "\n";
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        if (error) *error = path + ": cannot rename the profile into place";
-        return false;
-    }
-    return true;
+    return writeFileAtomically(path, out.str(), error);
 }
 
 std::string Profiler::summaryTable() const {

@@ -4,6 +4,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "engine/atomic_file.h"
+
 namespace engine {
 
 bool writeSummary(const std::string& path, const RunFacts& f, const Profiler& profiler,
@@ -31,21 +33,7 @@ bool writeSummary(const std::string& path, const RunFacts& f, const Profiler& pr
                            {"p95_ms", stats[c].p95},   {"p99_ms", stats[c].p99},
                            {"max_ms", stats[c].max}};
     j["profile"] = std::move(phases);
-    const std::string tmp = path + ".tmp";
-    {
-        std::ofstream out(tmp);
-        out << j.dump(2) << "\n";
-        if (!out.flush()) {
-            if (error) *error = path + ": cannot write the summary (disk full?)";
-            std::remove(tmp.c_str());
-            return false;
-        }
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        if (error) *error = path + ": cannot rename the summary into place";
-        return false;
-    }
-    return true;
+    return writeFileAtomically(path, j.dump(2) + "\n", error);
 }
 
 }  // namespace engine
