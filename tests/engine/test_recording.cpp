@@ -113,3 +113,51 @@ TEST(Recording, FullDiskIsAClearErrorNotACrash) {
     }
     umount(dir.c_str());
 }
+
+namespace {
+
+// Runs flagsim to completion; returns its exit code and what it printed on stderr.
+std::pair<int, std::string> runDemo(const std::vector<std::string>& args) {
+    const fs::path err = fs::temp_directory_path() / "flagsim_stderr.txt";
+    const pid_t pid = fork();
+    if (pid == 0) {
+        std::vector<char*> argv;
+        static std::string exe = FLAGSIM_EXE;
+        argv.push_back(exe.data());
+        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        std::freopen("/dev/null", "w", stdout);
+        std::freopen(err.c_str(), "w", stderr);
+        execv(exe.c_str(), argv.data());
+        _exit(127);
+    }
+    const int code = waitExit(pid);
+    std::ifstream in(err);
+    return {code, std::string(std::istreambuf_iterator<char>(in), {})};
+}
+
+}  // namespace
+
+TEST(CommandLine, BadOptionsGiveAClearErrorAndANonZeroExit) {
+    struct Case {
+        std::vector<std::string> args;
+        std::string expect;
+    } cases[] = {
+        {{"--frames", "-5"}, "--frames"},
+        {{"--frames", "many"}, "--frames"},
+        {{"--width", "5"}, "--width"},
+        {{"--bogus"}, "--bogus"},
+        {{"--scene", "nosuch"}, "nosuch.json: cannot open file"},
+        {{"--solver", "magic"}, "--solver magic: unknown solver 'magic'"},
+        {{"--solver", "kangcho:iterations=-2"}, "iterations"},
+        {{"--script", "/nonexistent/drive.json", "--frames", "1"}, "/nonexistent/drive.json: cannot open file"},
+        {{"--scene", "bench_cloth", "--record-input", "/tmp/x.json"}, "--record-input: scene 'bench_cloth' has no vehicle"},
+    };
+    for (const Case& c : cases) {
+        const auto [code, err] = runDemo(c.args);
+        std::string joined;
+        for (const auto& a : c.args) joined += a + " ";
+        EXPECT_NE(code, 0) << joined;
+        EXPECT_NE(err.find(c.expect), std::string::npos) << joined << "\nstderr: " << err;
+    }
+}

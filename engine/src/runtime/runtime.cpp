@@ -128,8 +128,9 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
                               "subsystem), so --window has nothing to show");
         s.subsystems |= kWindow;
     }
-    if (!options.outDir.empty() && !(s.subsystems & kRender) && (options.video))
-        throw ConfigError("--video: scene '" + s.name + "' does not render");
+    if ((options.video || !options.outDir.empty()) && !(s.subsystems & kRender))
+        std::fprintf(stderr, "flagsim: note: scene '%s' does not render: %s gets the profile and summary only\n",
+                     s.name.c_str(), options.outDir.empty() ? "(no --out)" : options.outDir.c_str());
     if (options.outDir.empty()) s.subsystems &= ~kRecording;
     if (options.noFrames && !options.video) s.subsystems &= ~kRecording;
     if (!options.recordInput.empty() && !(s.subsystems & kVehicle))
@@ -142,6 +143,14 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
         if (fs::exists(options.outDir) && !fs::is_empty(options.outDir, ec) && !options.force)
             throw ConfigError("--out " + options.outDir +
                               ": folder exists and is not empty (use --force to write into it)");
+        if (options.force) {
+            // --force replaces an earlier recording: remove what a run writes (and only that),
+            // so the folder never mixes two runs' frames.
+            for (const char* f : {"profile.csv", "summary.json", "video.mp4"}) fs::remove(fs::path(options.outDir) / f, ec);
+            if (fs::is_directory(fs::path(options.outDir) / "frames"))
+                for (const auto& e : fs::directory_iterator(fs::path(options.outDir) / "frames", ec))
+                    if (e.path().filename().string().rfind("frame_", 0) == 0) fs::remove(e.path(), ec);
+        }
         fs::create_directories(options.outDir, ec);
         if (ec) throw ConfigError("--out " + options.outDir + ": cannot create folder: " + ec.message());
     }
