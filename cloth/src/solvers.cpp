@@ -65,8 +65,9 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
     const auto colon = spec.find(':');
     c.name = std::string(spec.substr(0, colon));
     if (c.name == "cg") c.useCG = true;
-    if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit" && c.name != "chebyshev")
-        return failWith("unknown solver '" + c.name + "' (known: kangcho, exact, cg, explicit, chebyshev)");
+    if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit" && c.name != "chebyshev" &&
+        c.name != "desbrun")
+        return failWith("unknown solver '" + c.name + "' (known: kangcho, exact, cg, explicit, chebyshev, desbrun)");
     std::string_view rest = colon == std::string_view::npos ? "" : spec.substr(colon + 1);
     while (!rest.empty()) {
         const auto comma = rest.find(',');
@@ -109,7 +110,8 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
 }
 
 std::string validate(const SolverConfig& c) {
-    if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit" && c.name != "chebyshev")
+    if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit" && c.name != "chebyshev" &&
+        c.name != "desbrun")
         return "unknown solver '" + c.name + "'";
     if (c.iterations < 0 || c.iterations > 100000)
         return "iterations = " + std::to_string(c.iterations) + " must be in [0, 100000]";
@@ -350,6 +352,86 @@ private:
     Points prev_, next_;
 };
 
+// Desbrun, Schroder & Barr 1999 ("Interactive animation of structured deformable objects"), the
+// paper's ref. [5]: the Jacobian is replaced by its constant, isotropic linear part, J_ij ~ k I
+// (a Laplacian of spring stiffnesses), so the implicit matrix A = M + h^2 k L (x) I3 never changes
+// and is factored once ("precomputed filter"); each step solves
+//   A dv = h f(x) - h^2 k L v        (f with the full nonlinear springs)
+// three times (x, y, z) with that factorization. Pinned particles are eliminated as everywhere
+// here. Desbrun et al.'s post-step correction of the angular momentum the filter disturbs is not
+// applied (documented in docs/study.md).
+class DesbrunSolver final : public Solver {
+public:
+    using Solver::Solver;
+    StepResult step(const Model& model, const Environment& env, State& state, const StepInput& input) override {
+        if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
+        const Index n = model.particleCount();
+        const Scalar h = input.h, h2 = h * h;
+        auto t0 = Clock::now();
+        std::vector<std::uint8_t> pinned(n, 0);
+        Points pinDv = Points::Zero(3, n);
+        for (const Pin& p : input.pins)
+            if (p.particle >= 0 && p.particle < n) {
+                pinned[p.particle] = 1;
+                pinDv.col(p.particle) = (p.x - state.x.col(p.particle)) / h - state.v.col(p.particle);
+            }
+        if (&model != model_ || h != h_ || pinned != pinned_) factor(model, env, h, pinned);
+        computeForces(model, env, state, input.externalForce, force_);
+        // b = h f - h^2 k L v, with pinned columns moved to the right-hand side.
+        Eigen::MatrixXd b = (h * force_).transpose();  // n x 3
+        for (const Spring& s : model.springs()) {
+            const Vec3 lv = s.k * (state.v.col(s.j) - state.v.col(s.i));  // (k L v) on i is -k (v_j - v_i)
+            b.row(s.i) += h2 * lv.transpose();
+            b.row(s.j) -= h2 * lv.transpose();
+            if (pinned[s.j]) b.row(s.i) += h2 * s.k * pinDv.col(s.j).transpose();
+            if (pinned[s.i]) b.row(s.j) += h2 * s.k * pinDv.col(s.i).transpose();
+        }
+        for (Index i = 0; i < n; ++i)
+            if (pinned[i]) b.row(i) = pinDv.col(i).transpose();
+        profile_.forcesMs = msSince(t0);
+        t0 = Clock::now();
+        const Eigen::MatrixXd dv = chol_.solve(b);
+        dv_ = dv.transpose();
+        profile_.solveMs = msSince(t0);
+        if (chol_.info() != Eigen::Success || !dv_.allFinite()) return {StepStatus::SolverFailed, -1};
+        t0 = Clock::now();
+        scratch_.v = state.v + dv_;
+        scratch_.x = state.x + h * scratch_.v;
+        StepResult r = commit(model, config_, input, state, scratch_, StepResult{});
+        profile_.integrateMs = msSince(t0);
+        return r;
+    }
+
+private:
+    void factor(const Model& model, const Environment& env, Scalar h, const std::vector<std::uint8_t>& pinned) {
+        const Index n = model.particleCount();
+        std::vector<Eigen::Triplet<Scalar>> t;
+        for (Index i = 0; i < n; ++i)
+            t.emplace_back(i, i, pinned[i] ? 1.0 : model.masses()[i] * (1 + h * env.drag));
+        for (const Spring& s : model.springs()) {
+            const Scalar w = h * h * s.k;
+            if (!pinned[s.i]) t.emplace_back(s.i, s.i, w);
+            if (!pinned[s.j]) t.emplace_back(s.j, s.j, w);
+            if (!pinned[s.i] && !pinned[s.j]) {
+                t.emplace_back(s.i, s.j, -w);
+                t.emplace_back(s.j, s.i, -w);
+            }
+        }
+        Eigen::SparseMatrix<Scalar> A(n, n);
+        A.setFromTriplets(t.begin(), t.end());
+        chol_.compute(A);
+        model_ = &model;
+        h_ = h;
+        pinned_ = pinned;
+    }
+    Eigen::SimplicialLLT<Eigen::SparseMatrix<Scalar>> chol_;
+    const Model* model_ = nullptr;
+    Scalar h_ = 0;
+    std::vector<std::uint8_t> pinned_;
+    Points force_;
+    State scratch_;
+};
+
 // Symplectic Euler with substeps: v += hs f / m, x += hs v. Pinned particles move straight to
 // their targets.
 class ExplicitSolver final : public Solver {
@@ -407,6 +489,7 @@ std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* erro
     }
     if (config.name == "kangcho") return std::unique_ptr<Solver>(new KangChoSolver(config));
     if (config.name == "chebyshev") return std::unique_ptr<Solver>(new ChebyshevSolver(config));
+    if (config.name == "desbrun") return std::unique_ptr<Solver>(new DesbrunSolver(config));
     if (config.name == "exact" || config.name == "cg") {
         SolverConfig c = config;
         if (c.name == "cg") c.useCG = true;

@@ -365,3 +365,30 @@ TEST(Explicit, BlowsUpAboveItsStabilityLimitAndNotBelow) {
     EXPECT_FALSE(blowsUp(0.9 * hCrit)) << "h_crit = " << hCrit;
     EXPECT_TRUE(blowsUp(1.1 * hCrit)) << "h_crit = " << hCrit;
 }
+
+// Desbrun et al.'s filter: dv solves (M + h^2 k L) dv = h f - h^2 k L v, L the graph Laplacian,
+// here assembled densely and independently of the solver.
+TEST(Desbrun, StepSolvesTheConstantLaplacianSystem) {
+    Scene s = deformedGrid(5, 4, 300.0, 5);
+    Environment env;
+    StepInput input;
+    input.h = 1.0 / 60;
+    const Index n = s.model.particleCount();
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+    for (Index i = 0; i < n; ++i) A(i, i) = s.model.masses()[i];
+    Eigen::MatrixXd kL = Eigen::MatrixXd::Zero(n, n);
+    for (const Spring& sp : s.model.springs()) {
+        kL(sp.i, sp.i) += sp.k, kL(sp.j, sp.j) += sp.k;
+        kL(sp.i, sp.j) -= sp.k, kL(sp.j, sp.i) -= sp.k;
+    }
+    const double h = input.h;
+    A += h * h * kL;
+    Points f;
+    computeForces(s.model, env, s.state, nullptr, f);
+    const Eigen::MatrixXd b = h * f.transpose() - h * h * kL * s.state.v.transpose();
+    const Eigen::MatrixXd expected = A.ldlt().solve(b).transpose();
+    auto solver = solverFor("desbrun");
+    State state = s.state;
+    ASSERT_EQ(solver->step(s.model, env, state, input).status, StepStatus::Ok);
+    EXPECT_LT((solver->lastDv() - expected).norm(), 1e-10 * expected.norm());
+}

@@ -324,7 +324,7 @@ int main(int argc, char** argv) {
                                    {"kangcho", "kangcho:iterations=16"},
                                    {"kangcho_no_eq17", "kangcho:iterations=1,compression=off"},
                                    {"kangcho_no_eq17", "kangcho:iterations=4,compression=off"},
-                                   {"exact", "exact"},
+                                   {"exact", "exact"}, {"desbrun", "desbrun"},
                                    {"cg", "cg:max_iterations=2"}, {"cg", "cg:max_iterations=5"},
                                    {"cg", "cg:max_iterations=20"},
                                    {"chebyshev", "chebyshev:iterations=3"}, {"chebyshev", "chebyshev:iterations=8"},

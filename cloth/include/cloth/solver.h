@@ -7,6 +7,7 @@
 //             method=cg solves it with conjugate gradients (tolerance=, max_iterations=)
 //   cg        alias of exact with method=cg
 //   explicit  symplectic Euler with substeps=N
+//   desbrun   Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once
 //   chebyshev Jacobi with Chebyshev semi-iterative acceleration (Wang 2015), iterations=N,
 //             rho= (spectral radius estimate; 0 = estimate from the system each step)
 // Any solver takes strain_limit=S (e.g. 0.1: springs at most 10% over rest length after the step,

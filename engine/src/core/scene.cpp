@@ -145,7 +145,7 @@ static SceneConfig fromJson(const nlohmann::json& root, const std::string& path)
                       "max_iterations", "substeps", "threads", "precision", "strain_limit", "strain_passes"});
     {
         cloth::SolverConfig& c = s.flag.solver;
-        c.name = solver.oneOf("name", c.name, {"kangcho", "exact", "cg", "explicit", "chebyshev"});
+        c.name = solver.oneOf("name", c.name, {"kangcho", "exact", "cg", "explicit", "chebyshev", "desbrun"});
         c.iterations = solver.integer("iterations", c.iterations, 0, 100000);
         c.compressionRule = solver.boolean("compression", c.compressionRule);
         c.useCG = solver.oneOf("method", c.name == "cg" ? "cg" : "cholesky", {"cholesky", "cg"}) == "cg";
