@@ -25,8 +25,9 @@ fs::path freshDir(const char* name) {
     return d;
 }
 
-// Runs flagsim with the arguments; returns its pid.
-pid_t spawnDemo(const std::vector<std::string>& args) {
+// Runs flagsim with the arguments (stdout discarded, stderr to `stderrPath` when given); returns
+// its pid.
+pid_t spawnDemo(const std::vector<std::string>& args, const std::string& stderrPath = {}) {
     const pid_t pid = fork();
     if (pid == 0) {
         std::vector<char*> argv;
@@ -35,6 +36,7 @@ pid_t spawnDemo(const std::vector<std::string>& args) {
         for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
         argv.push_back(nullptr);
         std::freopen("/dev/null", "w", stdout);
+        if (!stderrPath.empty()) std::freopen(stderrPath.c_str(), "w", stderr);
         execv(exe.c_str(), argv.data());
         _exit(127);
     }
@@ -119,18 +121,7 @@ namespace {
 // Runs flagsim to completion; returns its exit code and what it printed on stderr.
 std::pair<int, std::string> runDemo(const std::vector<std::string>& args) {
     const fs::path err = fs::temp_directory_path() / "flagsim_stderr.txt";
-    const pid_t pid = fork();
-    if (pid == 0) {
-        std::vector<char*> argv;
-        static std::string exe = FLAGSIM_EXE;
-        argv.push_back(exe.data());
-        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-        argv.push_back(nullptr);
-        std::freopen("/dev/null", "w", stdout);
-        std::freopen(err.c_str(), "w", stderr);
-        execv(exe.c_str(), argv.data());
-        _exit(127);
-    }
+    const pid_t pid = spawnDemo(args, err.string());
     const int code = waitExit(pid);
     std::ifstream in(err);
     return {code, std::string(std::istreambuf_iterator<char>(in), {})};
