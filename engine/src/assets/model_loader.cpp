@@ -13,7 +13,9 @@
 namespace engine {
 
 LoadedModel loadModel(const std::string& path, const ModelLimits& limits) {
-    if (!std::filesystem::is_regular_file(path)) throw ConfigError(path + ": model file not found");
+    std::error_code ec;  // the non-throwing overload: a hostile path (too long, ...) is an error, not a crash
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw ConfigError(path + ": model file not found" + (ec ? " (" + ec.message() + ")" : ""));
     Assimp::Importer importer;
     // Node transforms baked into vertices; data structure validated before we touch it.
     const unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |

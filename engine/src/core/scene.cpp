@@ -21,8 +21,10 @@ std::string relativeTo(const std::string& sceneFile, const std::string& path) {
 }
 
 void requireFile(const JsonFields& f, const char* key, const std::string& resolved) {
-    if (!resolved.empty() && !std::filesystem::is_regular_file(resolved))
-        f.fail(f.pathOf(key), f.at(key), "file not found (looked for " + resolved + ")");
+    std::error_code ec;  // the non-throwing overload: a hostile path (too long, ...) is an error, not a crash
+    if (!resolved.empty() && !std::filesystem::is_regular_file(resolved, ec))
+        f.fail(f.pathOf(key), f.at(key),
+               "file not found (looked for " + resolved + (ec ? ": " + ec.message() : "") + ")");
 }
 
 }  // namespace

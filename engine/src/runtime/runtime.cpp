@@ -140,14 +140,14 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     if (!options.outDir.empty()) {
         namespace fs = std::filesystem;
         std::error_code ec;
-        if (fs::exists(options.outDir) && !fs::is_empty(options.outDir, ec) && !options.force)
+        if (fs::exists(options.outDir, ec) && !fs::is_empty(options.outDir, ec) && !options.force)
             throw ConfigError("--out " + options.outDir +
                               ": folder exists and is not empty (use --force to write into it)");
         if (options.force) {
             // --force replaces an earlier recording: remove what a run writes (and only that),
             // so the folder never mixes two runs' frames.
             for (const char* f : {"profile.csv", "summary.json", "video.mp4"}) fs::remove(fs::path(options.outDir) / f, ec);
-            if (fs::is_directory(fs::path(options.outDir) / "frames"))
+            if (fs::is_directory(fs::path(options.outDir) / "frames", ec))
                 for (const auto& e : fs::directory_iterator(fs::path(options.outDir) / "frames", ec))
                     if (e.path().filename().string().rfind("frame_", 0) == 0) fs::remove(e.path(), ec);
         }
