@@ -74,6 +74,7 @@ void stepBullet(benchmark::State& bm) {
 
 BENCHMARK_CAPTURE(stepFlag, kangcho_fast_double, "kangcho")->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, kangcho_fast_float, "kangcho:precision=float")->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, kangcho_gather_double, "kangcho:impl=gather")->Args({33, 1})->Args({129, 1})->Args({129, 2})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, kangcho_reference, "kangcho:impl=reference")->Args({33, 1})->Args({129, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, kangcho_4_iterations, "kangcho:iterations=4")->Args({33, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, exact_cholesky, "exact")->Args({17, 1})->Args({33, 1})->Unit(benchmark::kMicrosecond);

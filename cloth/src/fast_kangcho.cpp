@@ -9,7 +9,7 @@ namespace cloth {
 
 template <class T>
 void FastKangCho<T>::prepare(const Model& model) {
-    model_ = &model;
+    modelId_ = model.id();
     n_ = model.particleCount();
     springs_ = model.springCount();
     adjStart_.assign(model.adjStart().begin(), model.adjStart().end());
@@ -40,7 +40,7 @@ template <class T>
 void FastKangCho<T>::solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
                            bool compressionRule, int iterations, Points& dv, double* forcesMs) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (model_ != &model || n_ != model.particleCount() || springs_ != model.springCount()) prepare(model);
+    if (modelId_ != model.id()) prepare(model);
     const T h = T(input.h), h2 = h * h, c = T(env.drag);
     const T g[3] = {T(env.gravity.x()), T(env.gravity.y()), T(env.gravity.z())};
     const double* xs = state.x.data();

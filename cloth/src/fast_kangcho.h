@@ -28,7 +28,7 @@ public:
 private:
     void prepare(const Model& model);
     ThreadPool pool_;
-    const Model* model_ = nullptr;
+    std::uint64_t modelId_ = 0;
     int n_ = 0, springs_ = 0;
     // Topology, per adjacency entry: spring, other end, sign of u as seen from this particle.
     std::vector<int> adjStart_, adjSpring_, adjOther_;

@@ -1,5 +1,6 @@
 #include "cloth/model.h"
 
+#include <atomic>
 #include <algorithm>
 #include <map>
 #include <sstream>
@@ -155,6 +156,8 @@ Model Model::fromMesh(const Points& rest, const std::vector<Triangle>& tris, Sca
 Model::Model(Points rest, std::vector<Triangle> triangles, std::vector<Spring> springs,
              Scalar totalMass)
     : rest_(std::move(rest)), triangles_(std::move(triangles)), springs_(std::move(springs)) {
+    static std::atomic<std::uint64_t> lastId{0};
+    id_ = ++lastId;
     // Lumped mass: each triangle gives a third of its share of the total mass to each corner.
     const Index n = static_cast<Index>(rest_.cols());
     std::vector<Scalar> area(triangles_.size());

@@ -10,6 +10,7 @@
 #include "cloth/diagnostics.h"
 #include "cloth/strain_limit.h"
 #include "fast_kangcho.h"
+#include "stencil_kangcho.h"
 
 namespace cloth {
 
@@ -21,7 +22,7 @@ std::string SolverConfig::describe() const {
     s << name;
     if (name == "kangcho")
         s << ":iterations=" << iterations << ",compression=" << (compressionRule ? "on" : "off")
-          << (reference ? ",impl=reference" : "") << (singlePrecision ? ",precision=float" : "")
+          << (impl == Impl::Reference ? ",impl=reference" : impl == Impl::Gather ? ",impl=gather" : "") << (singlePrecision ? ",precision=float" : "")
           << (threads != 1 ? ",threads=" + std::to_string(threads) : std::string());
     else if (name == "exact" || name == "cg")
         s << ":method=" << (useCG ? "cg" : "cholesky") << ",tolerance=" << tolerance
@@ -88,8 +89,10 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
             ok = value == "float" || value == "double";
             c.singlePrecision = value == "float";
         } else if (key == "impl" && c.name == "kangcho") {
-            ok = value == "fast" || value == "reference";
-            c.reference = value == "reference";
+            ok = value == "fast" || value == "gather" || value == "reference";
+            c.impl = value == "reference" ? SolverConfig::Impl::Reference
+                     : value == "gather"  ? SolverConfig::Impl::Gather
+                                          : SolverConfig::Impl::Fast;
         }
         else if (key == "compression" && c.name != "explicit") ok = parseSwitch(value, c.compressionRule);
         else if (key == "tolerance" && (c.name == "exact" || c.name == "cg")) ok = parseDouble(value, c.tolerance);
@@ -242,27 +245,31 @@ protected:
 };
 
 // Kang & Cho: dv(0) = W_ii^-1 b_i, then `iterations` Jacobi sweeps (eq. 11); one sweep is eq. 14.
-// The fast path (fast_kangcho.h) computes the same iterates without assembling the system; the
-// reference path assembles it and sweeps over 3x3 blocks (the tests compare the two).
+// The fast paths (stencil_kangcho.h for grids, fast_kangcho.h for any mesh) compute the same
+// iterates without assembling the system; the reference path assembles it and sweeps over 3x3
+// blocks (the tests compare all three).
 class KangChoSolver final : public ImplicitSolver {
 public:
-    explicit KangChoSolver(SolverConfig config) : ImplicitSolver(std::move(config)) {
-        if (config_.reference) return;
-        if (config_.singlePrecision) fastFloat_ = std::make_unique<FastKangCho<float>>(config_.threads);
-        else fastDouble_ = std::make_unique<FastKangCho<double>>(config_.threads);
-    }
+    using ImplicitSolver::ImplicitSolver;
 
 protected:
     bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
                    StepResult& result) override {
-        if (config_.reference) return ImplicitSolver::computeDv(model, env, state, input, result);
+        using Impl = SolverConfig::Impl;
+        if (config_.impl == Impl::Reference) return ImplicitSolver::computeDv(model, env, state, input, result);
+        if (model.id() != modelId_) {  // choose the layout once per model
+            modelId_ = model.id();
+            const bool stencil = config_.impl == Impl::Fast && !springFamilies(model).empty();
+            if (config_.singlePrecision) fastFloat_.choose(stencil, config_.threads);
+            else fastDouble_.choose(stencil, config_.threads);
+        }
         const auto t0 = Clock::now();
-        if (fastFloat_)
-            fastFloat_->solve(model, env, state, input, config_.compressionRule, config_.iterations, dv_,
-                              &profile_.forcesMs);
+        if (config_.singlePrecision)
+            fastFloat_.solve(model, env, state, input, config_.compressionRule, config_.iterations, dv_,
+                             &profile_.forcesMs);
         else
-            fastDouble_->solve(model, env, state, input, config_.compressionRule, config_.iterations, dv_,
-                               &profile_.forcesMs);
+            fastDouble_.solve(model, env, state, input, config_.compressionRule, config_.iterations, dv_,
+                              &profile_.forcesMs);
         profile_.solveMs = msSince(t0) - profile_.forcesMs;
         result.iterations = config_.iterations;
         return true;
@@ -278,9 +285,27 @@ protected:
     }
 
 private:
+    // One of the two fast layouts in precision T.
+    template <class T>
+    struct Fast {
+        std::unique_ptr<StencilKangCho<T>> stencil;
+        std::unique_ptr<FastKangCho<T>> gather;
+        void choose(bool useStencil, int threads) {
+            stencil.reset();
+            gather.reset();
+            if (useStencil) stencil = std::make_unique<StencilKangCho<T>>(threads);
+            else gather = std::make_unique<FastKangCho<T>>(threads);
+        }
+        template <class... Args>
+        void solve(Args&&... args) {
+            if (stencil) stencil->solve(std::forward<Args>(args)...);
+            else gather->solve(std::forward<Args>(args)...);
+        }
+    };
+    std::uint64_t modelId_ = 0;
     Points next_;
-    std::unique_ptr<FastKangCho<float>> fastFloat_;
-    std::unique_ptr<FastKangCho<double>> fastDouble_;
+    Fast<float> fastFloat_;
+    Fast<double> fastDouble_;
 };
 
 // The reference: the same system solved exactly (sparse Cholesky), or by conjugate gradients
@@ -375,7 +400,7 @@ public:
                 pinned[p.particle] = 1;
                 pinDv.col(p.particle) = (p.x - state.x.col(p.particle)) / h - state.v.col(p.particle);
             }
-        if (&model != model_ || h != h_ || pinned != pinned_) factor(model, env, h, pinned);
+        if (model.id() != modelId_ || h != h_ || pinned != pinned_) factor(model, env, h, pinned);
         computeForces(model, env, state, input.externalForce, force_);
         // b = h f - h^2 k L v, with pinned columns moved to the right-hand side.
         Eigen::MatrixXd b = (h * force_).transpose();  // n x 3
@@ -420,12 +445,12 @@ private:
         Eigen::SparseMatrix<Scalar> A(n, n);
         A.setFromTriplets(t.begin(), t.end());
         chol_.compute(A);
-        model_ = &model;
+        modelId_ = model.id();
         h_ = h;
         pinned_ = pinned;
     }
     Eigen::SimplicialLLT<Eigen::SparseMatrix<Scalar>> chol_;
-    const Model* model_ = nullptr;
+    std::uint64_t modelId_ = 0;
     Scalar h_ = 0;
     std::vector<std::uint8_t> pinned_;
     Points force_;

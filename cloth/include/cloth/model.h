@@ -2,6 +2,7 @@
 // Immutable cloth topology and settings: masses, springs, triangles, rest shape, adjacency.
 // Built once (from a grid or from an indexed triangle mesh), shared by any number of states.
 
+#include <cstdint>
 #include <array>
 #include <string>
 #include <vector>
@@ -72,6 +73,9 @@ public:
     const std::vector<Index>& adjOther() const { return adjOther_; }
 
     Scalar totalMass() const;
+    // Identity for solver caches: every model built gets its own id; a copy shares it (a Model
+    // never changes once built). Unlike an address, an id is never reused.
+    std::uint64_t id() const { return id_; }
 
 private:
     Model(Points rest, std::vector<Triangle> triangles, std::vector<Spring> springs, Scalar totalMass);
@@ -83,6 +87,7 @@ private:
     std::vector<Scalar> mass_;
     std::vector<Index> adjStart_, adjSpring_, adjOther_;
     int nx_ = 0, ny_ = 0;
+    std::uint64_t id_ = 0;
 };
 
 // Dynamic state, apart from the model: positions and velocities, one column per particle.

@@ -2,7 +2,7 @@
 // Solvers behind one small interface, chosen by name with parameters:
 //   kangcho   the paper: Jacobi iterations of the linearized backward Euler system
 //             (iterations=1 by default, any k >= 0; compression=on|off for eq. 17;
-//             threads=N, precision=double|float, impl=fast|reference)
+//             threads=N, precision=double|float, impl=fast|gather|reference)
 //   exact     the same system solved to a relative residual of 1e-10 (sparse Cholesky);
 //             method=cg solves it with conjugate gradients (tolerance=, max_iterations=)
 //   cg        alias of exact with method=cg
@@ -33,7 +33,11 @@ struct SolverConfig {
     int substeps = 1;              // explicit
     int threads = 1;               // kangcho: worker threads (results identical for any count)
     bool singlePrecision = false;  // kangcho: float arithmetic in the step (state stays double)
-    bool reference = false;        // kangcho: the straightforward per-spring 3x3 implementation
+    // kangcho implementation: fast = the stencil layout when the springs form a few constant index
+    // offsets (grids; stencil_kangcho.h), else the per-particle gather (fast_kangcho.h); gather =
+    // always the latter; reference = the straightforward per-spring 3x3 assembly.
+    enum class Impl { Fast, Gather, Reference };
+    Impl impl = Impl::Fast;
     Scalar rho = 0;                // chebyshev: Jacobi spectral radius; 0 = estimated each step
     Scalar strainLimit = 0;        // any solver: Provot anti-stretch pass, max stretch (0 = off)
     int strainLimitPasses = 4;
