@@ -219,22 +219,41 @@ CLOTH_SIMD_CLONES void sweepKernel(const SweepArgs<T>& args, int begin, int end)
 }
 
 // Structure of arrays from the state, and the force that does not come from springs:
-// f0 = m (g - c v) + external.
-template <class T, class Field>
-CLOTH_SIMD_CLONES void loadState(const double* xs, const double* vs, const double* ext, const T* __restrict m,
-                                 const T* g, T c, Field* xf, Field* vf, Field* wf, Field* ff, int pad, int begin,
-                                 int end) {
-    T *__restrict x = xf[0].at(pad), *__restrict y = xf[1].at(pad), *__restrict z = xf[2].at(pad);
-    T *__restrict vx = vf[0].at(pad), *__restrict vy = vf[1].at(pad), *__restrict vz = vf[2].at(pad);
-    T *__restrict wx = wf[0].at(pad), *__restrict wy = wf[1].at(pad), *__restrict wz = wf[2].at(pad);
-    T *__restrict fx = ff[0].at(pad), *__restrict fy = ff[1].at(pad), *__restrict fz = ff[2].at(pad);
+// f0 = m (g - c v) + external. One loop per array group: GCC does not vectorize the mixed loop.
+template <class T>
+struct LoadArgs {
+    const double *xs, *vs, *ext;
+    const T* mass;
+    T *x, *y, *z, *vx, *vy, *vz, *wx, *wy, *wz, *fx, *fy, *fz;
+    T g[3], c;
+};
+
+template <class T>
+CLOTH_SIMD_CLONES void loadState(const LoadArgs<T>& args, int begin, int end) {
+    const double *__restrict xs = args.xs, *__restrict vs = args.vs, *__restrict ext = args.ext;
+    const T* __restrict m = args.mass;
+    T *__restrict x = args.x, *__restrict y = args.y, *__restrict z = args.z;
+    T *__restrict vx = args.vx, *__restrict vy = args.vy, *__restrict vz = args.vz;
+    T *__restrict wx = args.wx, *__restrict wy = args.wy, *__restrict wz = args.wz;
+    T *__restrict fx = args.fx, *__restrict fy = args.fy, *__restrict fz = args.fz;
+    const T gx = args.g[0], gy = args.g[1], gz = args.g[2], c = args.c;
+#pragma GCC ivdep
+    for (int i = begin; i < end; ++i) x[i] = T(xs[3 * i]), y[i] = T(xs[3 * i + 1]), z[i] = T(xs[3 * i + 2]);
+#pragma GCC ivdep
+    for (int i = begin; i < end; ++i) vx[i] = T(vs[3 * i]), vy[i] = T(vs[3 * i + 1]), vz[i] = T(vs[3 * i + 2]);
+    std::copy(vx + begin, vx + end, wx + begin);
+    std::copy(vy + begin, vy + end, wy + begin);
+    std::copy(vz + begin, vz + end, wz + begin);
+#pragma GCC ivdep
     for (int i = begin; i < end; ++i) {
-        x[i] = T(xs[3 * i]), y[i] = T(xs[3 * i + 1]), z[i] = T(xs[3 * i + 2]);
-        vx[i] = wx[i] = T(vs[3 * i]), vy[i] = wy[i] = T(vs[3 * i + 1]), vz[i] = wz[i] = T(vs[3 * i + 2]);
-        fx[i] = m[i] * (g[0] - c * vx[i]), fy[i] = m[i] * (g[1] - c * vy[i]), fz[i] = m[i] * (g[2] - c * vz[i]);
+        const T mi = m[i];
+        fx[i] = mi * (gx - c * vx[i]);
+        fy[i] = mi * (gy - c * vy[i]);
+        fz[i] = mi * (gz - c * vz[i]);
     }
     if (ext)
-        for (int i = begin; i < end; ++i)
+    #pragma GCC ivdep
+    for (int i = begin; i < end; ++i)
             fx[i] += T(ext[3 * i]), fy[i] += T(ext[3 * i + 1]), fz[i] += T(ext[3 * i + 2]);
 }
 
@@ -244,6 +263,7 @@ CLOTH_SIMD_CLONES void storeDv(Field* dvf, Field* pinf, const T* __restrict pinn
                                int begin, int end) {
     const T *__restrict dx = dvf[0].at(pad), *__restrict dy = dvf[1].at(pad), *__restrict dz = dvf[2].at(pad);
     const T *__restrict px = pinf[0].at(pad), *__restrict py = pinf[1].at(pad), *__restrict pz = pinf[2].at(pad);
+#pragma GCC ivdep
     for (int i = begin; i < end; ++i) {
         const bool free = pinned[i] == T(0);
         out[3 * i] = double(free ? dx[i] : px[i]);
@@ -301,9 +321,10 @@ void StencilKangCho<T>::solve(const Model& model, const Environment& env, const 
     const double* ext = input.externalForce ? input.externalForce->data() : nullptr;
 
     // Structure of arrays, and the force that does not come from springs: m (g - c v) + external.
-    forBlocks(n, [&](int begin, int end) {
-        loadState<T>(xs, vs, ext, mass_.at(pad), g, c, x_, v_, w_, f0_, pad, begin, end);
-    });
+    LoadArgs<T> la{xs, vs, ext, mass_.at(pad), x_[0].at(pad), x_[1].at(pad), x_[2].at(pad), v_[0].at(pad),
+                   v_[1].at(pad), v_[2].at(pad), w_[0].at(pad), w_[1].at(pad), w_[2].at(pad), f0_[0].at(pad),
+                   f0_[1].at(pad), f0_[2].at(pad), {g[0], g[1], g[2]}, c};
+    forBlocks(n, [&](int begin, int end) { loadState(la, begin, end); });
     for (Field& f : pin_) std::fill(f.storage.begin(), f.storage.end(), T(0));
     std::fill(pinned_.storage.begin(), pinned_.storage.end(), T(0));
     for (const Pin& p : input.pins) {
