@@ -302,6 +302,7 @@ void StencilKangCho<T>::prepare(const Model& model) {
     zero(mass_);
     for (int i = 0; i < n_; ++i) mass_.at(pad_)[i] = T(model.masses()[i]);
     zero(pinned_);
+    pinnedList_.clear();
     for (int a = 0; a < 3; ++a)
         for (Field* field : {&x_[a], &v_[a], &w_[a], &f0_[a], &pin_[a], &rhs_[a], &dvA_[a], &dvB_[a]}) zero(*field);
     for (Field& w : winv_) zero(w);
@@ -325,12 +326,16 @@ void StencilKangCho<T>::solve(const Model& model, const Environment& env, const 
                    v_[1].at(pad), v_[2].at(pad), w_[0].at(pad), w_[1].at(pad), w_[2].at(pad), f0_[0].at(pad),
                    f0_[1].at(pad), f0_[2].at(pad), {g[0], g[1], g[2]}, c};
     forBlocks(n, [&](int begin, int end) { loadState(la, begin, end); });
-    for (Field& f : pin_) std::fill(f.storage.begin(), f.storage.end(), T(0));
-    std::fill(pinned_.storage.begin(), pinned_.storage.end(), T(0));
+    for (const int i : pinnedList_) {  // clear the last step's pins only
+        pinned_.at(pad)[i] = T(0);
+        for (Field& f : pin_) f.at(pad)[i] = T(0);
+    }
+    pinnedList_.clear();
     for (const Pin& p : input.pins) {
         if (p.particle < 0 || p.particle >= n) continue;
         const int i = int(p.particle);
         pinned_.at(pad)[i] = T(1);
+        pinnedList_.push_back(i);
         for (int a = 0; a < 3; ++a) {  // the velocity change that lands the particle on its target
             pin_[a].at(pad)[i] = T((p.x[a] - xs[3 * i + a]) / input.h - vs[3 * i + a]);
             w_[a].at(pad)[i] = v_[a].at(pad)[i] + pin_[a].at(pad)[i];

@@ -346,7 +346,7 @@ int main(int argc, char** argv) {
     for (double k : quick ? std::vector<double>{1e1, 1e3, 1e5} : std::vector<double>{1e1, 1e2, 1e3, 1e4, 1e5, 1e6})
         for (double h : quick ? std::vector<double>{1.0 / 1000, 1.0 / 60, 1.0 / 15}
                               : std::vector<double>{1.0 / 1000, 1.0 / 240, 1.0 / 60, 1.0 / 30, 1.0 / 15})
-            configs.push_back({&hanging, 17, k, h});
+            if (!(k == 1e4 && h == 1.0 / 240)) configs.push_back({&hanging, 17, k, h});  // already above
 
     if (extremesOnly) configs.clear();
     std::ofstream csv(out + (extremesOnly ? "/unused.csv" : "/error_vs_runtime.csv"));
@@ -393,6 +393,8 @@ int main(int argc, char** argv) {
                                      {"kangcho_1_strain_10pct_substeps_4", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 4},
                                      {"kangcho_2", "kangcho:iterations=2", 1},
                                      {"cg_5", "cg:max_iterations=5", 1},
+                                     {"desbrun", "desbrun", 1},
+                                     {"desbrun_strain_10pct", "desbrun:strain_limit=0.1,strain_passes=16", 1},
                                      {"explicit_10", "explicit:substeps=10", 1}};
     if (!quick) variants.push_back({"exact", "exact", 1});
     for (const Extreme& x : extremes())
