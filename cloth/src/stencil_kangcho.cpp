@@ -16,6 +16,14 @@
 #else
 #define CLOTH_SIMD_CLONES
 #endif
+// Loops whose arrays do not overlap (restrict on local pointers is not reliably honoured).
+#if defined(__clang__)
+#define CLOTH_IVDEP _Pragma("clang loop vectorize(assume_safety)")
+#elif defined(__GNUC__)
+#define CLOTH_IVDEP _Pragma("GCC ivdep")
+#else
+#define CLOTH_IVDEP
+#endif
 // Helpers must inline into every clone (GCC does not inline across target options otherwise).
 #define CLOTH_INLINE __attribute__((always_inline))
 
@@ -99,7 +107,7 @@ CLOTH_INLINE inline void addOffDiagonal(const FamilyView<T>* families, int count
             const T *__restrict ux = F.ux + slot, *__restrict uy = F.uy + slot, *__restrict uz = F.uz + slot;
             const T *__restrict a = F.a + slot, *__restrict b = F.b + slot;
             const T *__restrict qx = qx0 + other, *__restrict qy = qy0 + other, *__restrict qz = qz0 + other;
-#pragma GCC ivdep
+CLOTH_IVDEP
             for (int t = 0; t < tile.n; ++t)
                 addJacobianTimes(a[t], b[t], ux[t], uy[t], uz[t], qx[t], qy[t], qz[t], sx[t], sy[t], sz[t]);
         }
@@ -139,7 +147,7 @@ CLOTH_SIMD_CLONES void particleKernel(const ParticleArgs<T>& args, int begin, in
                 const T sign = T(side);
                 const T *__restrict ux = F.ux + slot, *__restrict uy = F.uy + slot, *__restrict uz = F.uz + slot;
                 const T *__restrict fa = F.a + slot, *__restrict fb = F.b + slot, *__restrict fm = F.fm + slot;
-#pragma GCC ivdep
+CLOTH_IVDEP
                 for (int t = 0; t < n; ++t) {
                     const T x = ux[t], y = uy[t], z = uz[t], b = fb[t], fs = sign * fm[t];
                     fx[t] += fs * x, fy[t] += fs * y, fz[t] += fs * z;
@@ -155,7 +163,7 @@ CLOTH_SIMD_CLONES void particleKernel(const ParticleArgs<T>& args, int begin, in
         T *__restrict w0 = args.w0 + first, *__restrict w1 = args.w1 + first, *__restrict w2 = args.w2 + first;
         T *__restrict w3 = args.w3 + first, *__restrict w4 = args.w4 + first, *__restrict w5 = args.w5 + first;
         T *__restrict dx = args.dx + first, *__restrict dy = args.dy + first, *__restrict dz = args.dz + first;
-#pragma GCC ivdep
+CLOTH_IVDEP
         for (int t = 0; t < n; ++t) {
             // sum_j J_ij (w_j - v_i) = sum_j J_ij w_j - (A I + B) v_i
             const T Ka = A[t], kxx = Ka + Bxx[t], kxy = Bxy[t], kxz = Bxz[t];
@@ -207,7 +215,7 @@ CLOTH_SIMD_CLONES void sweepKernel(const SweepArgs<T>& args, int begin, int end)
         const T *__restrict w3 = args.w3 + first, *__restrict w4 = args.w4 + first, *__restrict w5 = args.w5 + first;
         const T* __restrict pinned = args.pinned + first;
         T *__restrict outx = args.outx + first, *__restrict outy = args.outy + first, *__restrict outz = args.outz + first;
-#pragma GCC ivdep
+CLOTH_IVDEP
         for (int t = 0; t < tile.n; ++t) {
             const T y0 = rx[t] + h2 * sx[t], y1 = ry[t] + h2 * sy[t], y2 = rz[t] + h2 * sz[t];
             const bool free = pinned[t] == T(0);
@@ -237,14 +245,14 @@ CLOTH_SIMD_CLONES void loadState(const LoadArgs<T>& args, int begin, int end) {
     T *__restrict wx = args.wx, *__restrict wy = args.wy, *__restrict wz = args.wz;
     T *__restrict fx = args.fx, *__restrict fy = args.fy, *__restrict fz = args.fz;
     const T gx = args.g[0], gy = args.g[1], gz = args.g[2], c = args.c;
-#pragma GCC ivdep
+CLOTH_IVDEP
     for (int i = begin; i < end; ++i) x[i] = T(xs[3 * i]), y[i] = T(xs[3 * i + 1]), z[i] = T(xs[3 * i + 2]);
-#pragma GCC ivdep
+CLOTH_IVDEP
     for (int i = begin; i < end; ++i) vx[i] = T(vs[3 * i]), vy[i] = T(vs[3 * i + 1]), vz[i] = T(vs[3 * i + 2]);
     std::copy(vx + begin, vx + end, wx + begin);
     std::copy(vy + begin, vy + end, wy + begin);
     std::copy(vz + begin, vz + end, wz + begin);
-#pragma GCC ivdep
+CLOTH_IVDEP
     for (int i = begin; i < end; ++i) {
         const T mi = m[i];
         fx[i] = mi * (gx - c * vx[i]);
@@ -252,7 +260,7 @@ CLOTH_SIMD_CLONES void loadState(const LoadArgs<T>& args, int begin, int end) {
         fz[i] = mi * (gz - c * vz[i]);
     }
     if (ext)
-    #pragma GCC ivdep
+    CLOTH_IVDEP
     for (int i = begin; i < end; ++i)
             fx[i] += T(ext[3 * i]), fy[i] += T(ext[3 * i + 1]), fz[i] += T(ext[3 * i + 2]);
 }
@@ -263,7 +271,7 @@ CLOTH_SIMD_CLONES void storeDv(Field* dvf, Field* pinf, const T* __restrict pinn
                                int begin, int end) {
     const T *__restrict dx = dvf[0].at(pad), *__restrict dy = dvf[1].at(pad), *__restrict dz = dvf[2].at(pad);
     const T *__restrict px = pinf[0].at(pad), *__restrict py = pinf[1].at(pad), *__restrict pz = pinf[2].at(pad);
-#pragma GCC ivdep
+CLOTH_IVDEP
     for (int i = begin; i < end; ++i) {
         const bool free = pinned[i] == T(0);
         out[3 * i] = double(free ? dx[i] : px[i]);
