@@ -15,7 +15,6 @@
 // elements, so a thread count never changes which elements run in vector or scalar code: the
 // result is bit-identical for any thread count.
 
-#include <array>
 #include <vector>
 
 #include "cloth/solver.h"
