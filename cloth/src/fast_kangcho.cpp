@@ -46,6 +46,7 @@ void FastKangCho<T>::solve(const Model& model, const Environment& env, const Sta
     const double* xs = state.x.data();
     const double* vs = state.v.data();
     const double* ext = input.externalForce ? input.externalForce->data() : nullptr;
+    const std::vector<Mat3>* damping = input.damping;
 
     std::fill(pinned_.begin(), pinned_.end(), 0);
     std::fill(pin_.begin(), pin_.end(), T(0));
@@ -117,8 +118,13 @@ void FastKangCho<T>::solve(const Model& model, const Environment& env, const Sta
             for (int a = 0; a < 3; ++a) r[a] = h * f[a] + h2 * jv[a];
             // W = m (1 + h c) I + h^2 (A I + B); inverse by cofactors.
             const T diag = m * (T(1) + h * c) + h2 * A;
-            const T wxx = diag + h2 * Bxx, wxy = h2 * Bxy, wxz = h2 * Bxz;
-            const T wyy = diag + h2 * Byy, wyz = h2 * Byz, wzz = diag + h2 * Bzz;
+            T wxx = diag + h2 * Bxx, wxy = h2 * Bxy, wxz = h2 * Bxz;
+            T wyy = diag + h2 * Byy, wyz = h2 * Byz, wzz = diag + h2 * Bzz;
+            if (damping) {  // + h C_i (implicit external force)
+                const Mat3& C = (*damping)[i];
+                wxx += h * T(C(0, 0)), wxy += h * T(C(0, 1)), wxz += h * T(C(0, 2));
+                wyy += h * T(C(1, 1)), wyz += h * T(C(1, 2)), wzz += h * T(C(2, 2));
+            }
             const T cxx = wyy * wzz - wyz * wyz, cxy = wxz * wyz - wxy * wzz, cxz = wxy * wyz - wxz * wyy;
             const T cyy = wxx * wzz - wxz * wxz, cyz = wxy * wxz - wxx * wyz, czz = wxx * wyy - wxy * wxy;
             const T invDet = T(1) / (wxx * cxx + wxy * cxy + wxz * cxz);

@@ -118,6 +118,7 @@ struct ParticleArgs {
     const FamilyView<T>* fam;
     int families;
     const T *vx, *vy, *vz, *wx, *wy, *wz, *f0x, *f0y, *f0z, *pinned, *mass;
+    const T* damp[6];  // h C_i of the external force (xx xy xz yy yz zz), zero when explicit
     T *rx, *ry, *rz, *w0, *w1, *w2, *w3, *w4, *w5, *dx, *dy, *dz;
     T h, c;
 };
@@ -163,6 +164,9 @@ CLOTH_IVDEP
         T *__restrict w0 = args.w0 + first, *__restrict w1 = args.w1 + first, *__restrict w2 = args.w2 + first;
         T *__restrict w3 = args.w3 + first, *__restrict w4 = args.w4 + first, *__restrict w5 = args.w5 + first;
         T *__restrict dx = args.dx + first, *__restrict dy = args.dy + first, *__restrict dz = args.dz + first;
+        const T *__restrict c0 = args.damp[0] + first, *__restrict c1 = args.damp[1] + first;
+        const T *__restrict c2 = args.damp[2] + first, *__restrict c3 = args.damp[3] + first;
+        const T *__restrict c4 = args.damp[4] + first, *__restrict c5 = args.damp[5] + first;
 CLOTH_IVDEP
         for (int t = 0; t < n; ++t) {
             // sum_j J_ij (w_j - v_i) = sum_j J_ij w_j - (A I + B) v_i
@@ -172,10 +176,10 @@ CLOTH_IVDEP
             const T ey = jy[t] - (kxy * vx[t] + kyy * vy[t] + kyz * vz[t]);
             const T ez = jz[t] - (kxz * vx[t] + kyz * vy[t] + kzz * vz[t]);
             const T r0 = h * fx[t] + h2 * ex, r1 = h * fy[t] + h2 * ey, r2 = h * fz[t] + h2 * ez;
-            // W = m (1 + h c) I + h^2 (A I + B); inverse by cofactors.
+            // W = m (1 + h c) I + h C + h^2 (A I + B); inverse by cofactors.
             const T diag = mass[t] * (T(1) + h * c);
-            const T wxx = diag + h2 * kxx, wxy = h2 * kxy, wxz = h2 * kxz;
-            const T wyy = diag + h2 * kyy, wyz = h2 * kyz, wzz = diag + h2 * kzz;
+            const T wxx = diag + c0[t] + h2 * kxx, wxy = c1[t] + h2 * kxy, wxz = c2[t] + h2 * kxz;
+            const T wyy = diag + c3[t] + h2 * kyy, wyz = c4[t] + h2 * kyz, wzz = diag + c5[t] + h2 * kzz;
             const T cxx = wyy * wzz - wyz * wyz, cxy = wxz * wyz - wxy * wzz, cxz = wxy * wyz - wxz * wyy;
             const T cyy = wxx * wzz - wxz * wxz, cyz = wxy * wxz - wxx * wyz, czz = wxx * wyy - wxy * wxy;
             const T invDet = T(1) / (wxx * cxx + wxy * cxy + wxz * cxz);
@@ -314,6 +318,8 @@ void StencilKangCho<T>::prepare(const Model& model) {
     for (int a = 0; a < 3; ++a)
         for (Field* field : {&x_[a], &v_[a], &w_[a], &f0_[a], &pin_[a], &rhs_[a], &dvA_[a], &dvB_[a]}) zero(*field);
     for (Field& w : winv_) zero(w);
+    for (Field& d : damp_) zero(d);
+    dampingLoaded_ = false;
 }
 
 template <class T>
@@ -350,6 +356,17 @@ void StencilKangCho<T>::solve(const Model& model, const Environment& env, const 
         }
     }
 
+    // h C_i of an implicit external force (zero when there is none).
+    if (input.damping || dampingLoaded_) {
+        static constexpr int kRow[6] = {0, 0, 0, 1, 1, 2}, kCol[6] = {0, 1, 2, 1, 2, 2};
+        for (int e = 0; e < 6; ++e) {
+            T* out = damp_[e].at(pad);
+            for (int i = 0; i < n; ++i)
+                out[i] = input.damping ? h * T((*input.damping)[i](kRow[e], kCol[e])) : T(0);
+        }
+        dampingLoaded_ = input.damping != nullptr;
+    }
+
     // Springs, one contiguous loop per family.
     forBlocks(n, [&](int begin, int end) {
         for (int f = 0; f < nf; ++f) {
@@ -375,6 +392,7 @@ void StencilKangCho<T>::solve(const Model& model, const Environment& env, const 
     pa.w0 = winv_[0].at(pad), pa.w1 = winv_[1].at(pad), pa.w2 = winv_[2].at(pad);
     pa.w3 = winv_[3].at(pad), pa.w4 = winv_[4].at(pad), pa.w5 = winv_[5].at(pad);
     pa.dx = dvA_[0].at(pad), pa.dy = dvA_[1].at(pad), pa.dz = dvA_[2].at(pad);
+    for (int e = 0; e < 6; ++e) pa.damp[e] = damp_[e].at(pad);
     pa.h = h, pa.c = c;
     forBlocks(n, [&](int begin, int end) { particleKernel(pa, begin, end); });
     if (forcesMs) *forcesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

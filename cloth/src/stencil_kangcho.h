@@ -58,6 +58,8 @@ private:
     // w = v + the prescribed dv of pinned particles; pin = that dv (0 if free).
     std::vector<int> pinnedList_;
     Field mass_, x_[3], v_[3], w_[3], f0_[3], pin_[3], pinned_, rhs_[3], winv_[6], dvA_[3], dvB_[3];
+    Field damp_[6];  // h C_i (xx xy xz yy yz zz)
+    bool dampingLoaded_ = false;
 };
 
 extern template class StencilKangCho<float>;

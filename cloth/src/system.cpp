@@ -23,9 +23,13 @@ void buildSystem(const Model& model, const Environment& env, const State& state,
 
     computeForces(model, env, state, input.externalForce, sys.force);
 
-    // W_ii = m_i (1 + h c) I + h^2 sum_j J_ij (eq. 12, with the implicit linear drag c).
+    // W_ii = m_i (1 + h c) I + h C_i + h^2 sum_j J_ij (eq. 12, with the implicit linear drag c
+    // and the external force's damping C_i).
     sys.diag.resize(n);
-    for (Index i = 0; i < n; ++i) sys.diag[i] = mass[i] * (1 + h * env.drag) * Mat3::Identity();
+    for (Index i = 0; i < n; ++i) {
+        sys.diag[i] = mass[i] * (1 + h * env.drag) * Mat3::Identity();
+        if (input.damping) sys.diag[i] += h * (*input.damping)[i];
+    }
     // b_i = h f_i + h^2 sum_j J_ij (v_j - v_i)   (eq. 7: the viscous term folded into the force)
     //     + h^2 sum_{j pinned} J_ij dv_j         (pinned columns moved to the right-hand side)
     sys.rhs = h * sys.force;

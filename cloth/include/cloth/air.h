@@ -3,12 +3,22 @@
 // (scene wind minus the triangle's own velocity). The paper does not model air; a flag on a
 // moving vehicle only streams behind it because of these forces.
 //
-// Per triangle with area A, unit normal n, relative air velocity w = wind - (v_a + v_b + v_c)/3:
-//   pressure drag  F_d = 1/2 rho A Cd |w| (w . n) n
-//   skin friction  F_t = 1/2 rho A Cf |w| (w - (w . n) n)
-//   lift           F_l = 1/2 rho A Cl |w|^2 cos(theta) sin(theta) l, l = unit part of n
-//                  orthogonal to w, oriented with (w . n) (theta: angle between w and the plane)
+// Per triangle with area A, unit normal n (oriented so that w . n >= 0), relative air velocity
+// w = wind - (v_a + v_b + v_c)/3, s = |w|, wn = w . n, c_X = 1/2 rho A C_X:
+//   pressure drag  F_d = c_d s wn n
+//   skin friction  F_t = c_f s (w - wn n)
+//   lift           F_l = c_l |w|^2 cos(theta) sin(theta) l = c_l (wn s n - (wn^2 / s) w)
+//                  (theta: angle between w and the plane; l: unit part of n orthogonal to w)
 // Each triangle's force is shared equally by its three corners.
+//
+// Implicit air: backward Euler needs -df/dv. Its diagonal blocks are
+//   C_i = -df_i/dv_i = sum over the triangles of i of (1/9) dF/dw
+// (f_i = F/3 and dw/dv_i = -I/3). dF/dw is not symmetric (the terms from d|w| and d(w.n)), so
+// what enters the system matrix W = M + h C + h^2 K is the symmetric positive semi-definite part
+// of C_i (symmetric part, negative eigenvalues clamped to zero): W stays symmetric positive
+// definite for Cholesky, CG and multigrid, and the air can only damp, never excite.
+
+#include <vector>
 
 #include "cloth/model.h"
 
@@ -22,8 +32,17 @@ struct AirParams {
     Scalar frictionCoefficient = 0.02;
 };
 
-// Adds the air forces to f (3 x n). Returns false (and adds nothing) when the params are all zero
-// in effect (still air and a resting cloth are not skipped: call sites decide whether air is on).
-void addAirForces(const Model& model, const State& state, const AirParams& air, Points& f);
+// Adds the air forces to f (3 x n). With velocityJacobian non-null, also sets
+// (*velocityJacobian)[i] = df_i/dv_i (the exact diagonal blocks of the force's velocity
+// derivative, resized to n).
+void addAirForces(const Model& model, const State& state, const AirParams& air, Points& f,
+                  std::vector<Mat3>* velocityJacobian = nullptr);
+
+// The part of -dfdv that enters W: the symmetric part of -dfdv with its negative eigenvalues
+// clamped to zero.
+Mat3 dampingBlock(const Mat3& dfdv);
+
+// -df_i/dv_i of the air for every particle, as dampingBlock()s: what StepInput::damping takes.
+void airDamping(const std::vector<Mat3>& velocityJacobian, std::vector<Mat3>& damping);
 
 }  // namespace cloth

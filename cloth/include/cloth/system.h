@@ -3,7 +3,7 @@
 // particles eliminated. Every solver in this library reads the same system, so "the same cloth,
 // same masses, same pins" holds by construction.
 //
-//   (M + h C - h^2 J) dv = h f + h^2 J v            (C: linear drag, -df/dv)
+//   (M + h C - h^2 J) dv = h f + h^2 J v      (C = -df/dv: linear drag, and implicit air)
 // Rows of pinned particles become dv_p = prescribed; their columns move to the right-hand side.
 
 #include <Eigen/SparseCore>
@@ -30,7 +30,11 @@ struct Pin {
 struct StepInput {
     Scalar h = Scalar(1) / 60;
     std::span<const Pin> pins;
-    const Points* externalForce = nullptr;  // explicit per-particle forces (air), or null
+    const Points* externalForce = nullptr;  // per-particle external forces (air), or null
+    // Per-particle C_i = -df_i/dv_i of the external force (symmetric positive semi-definite;
+    // air.h's airDamping), or null. Implicit solvers add h C_i to W_ii, which integrates the
+    // external force implicitly in velocity; null keeps it explicit.
+    const std::vector<Mat3>* damping = nullptr;
 };
 
 // Gravity, drag, springs (eq. 15) and the external force, summed into f (3 x n).
@@ -40,7 +44,7 @@ void computeForces(const Model& model, const Environment& env, const State& stat
 struct LinearSystem {
     Scalar h = 0;
     std::vector<Mat3> springJ;   // J_ij per spring (eqs. 16, 17)
-    std::vector<Mat3> diag;      // W_ii = m_i (1 + h c) I + h^2 sum_j J_ij (eq. 12); I if pinned
+    std::vector<Mat3> diag;      // W_ii = m_i (1 + h c) I + h C_i + h^2 sum_j J_ij (eq. 12); I if pinned
     std::vector<Mat3> diagInv;   // W_ii^-1
     Points force;                // f at the current state
     Points rhs;                  // b_i = h f_i + h^2 sum_j J_ij (v_j - v_i) + h^2 sum_{j pinned} J_ij dv_j
