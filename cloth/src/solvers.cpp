@@ -10,12 +10,21 @@
 #include "cloth/diagnostics.h"
 #include "cloth/strain_limit.h"
 #include "fast_kangcho.h"
+#include "multigrid.h"
 #include "stencil_kangcho.h"
 
 namespace cloth {
 
 // ---------------------------------------------------------------------------------------------
 // Configuration
+
+namespace {
+std::string shortNumber(Scalar v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+}  // namespace
 
 std::string SolverConfig::describe() const {
     std::ostringstream s;
@@ -25,9 +34,17 @@ std::string SolverConfig::describe() const {
           << (impl == Impl::Reference ? ",impl=reference" : impl == Impl::Gather ? ",impl=gather" : "") << (singlePrecision ? ",precision=float" : "")
           << (threads != 1 ? ",threads=" + std::to_string(threads) : std::string());
     else if (name == "exact" || name == "cg")
-        s << ":method=" << (useCG ? "cg" : "cholesky") << ",tolerance=" << tolerance
-          << (useCG ? ",max_iterations=" + std::to_string(maxIterations) : std::string())
+        s << ":method=" << (method == Method::CG ? "cg" : method == Method::Multigrid ? "multigrid" : "cholesky")
+          << ",tolerance=" << tolerance
+          << (method != Method::Cholesky ? ",max_iterations=" + std::to_string(maxIterations) : std::string())
           << ",compression=" << (compressionRule ? "on" : "off");
+    else if (name == "multigrid")
+        s << ":cycles=" << cycles << (cycles == 0 ? ",tolerance=" + shortNumber(tolerance) + ",max_cycles=" + std::to_string(maxCycles) : std::string())
+          << ",pre_sweeps=" << preSweeps << ",post_sweeps=" << postSweeps << ",damping=" << damping
+          << (coarsening == Coarsening::Geometric ? ",coarsening=geometric" : coarsening == Coarsening::Aggregation ? ",coarsening=aggregation" : "")
+          << (rediscretize ? ",coarse=rediscretize" : "") << (krylov ? "" : ",krylov=none")
+          << ",compression=" << (compressionRule ? "on" : "off") << (singlePrecision ? ",precision=float" : "")
+          << (threads != 1 ? ",threads=" + std::to_string(threads) : std::string());
     else if (name == "explicit")
         s << ":substeps=" << substeps;
     else if (name == "chebyshev")
@@ -65,10 +82,11 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
     SolverConfig c;
     const auto colon = spec.find(':');
     c.name = std::string(spec.substr(0, colon));
-    if (c.name == "cg") c.useCG = true;
+    if (c.name == "cg") c.method = SolverConfig::Method::CG;
+    if (c.name == "multigrid") c.tolerance = 1e-3;
     if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit" && c.name != "chebyshev" &&
-        c.name != "desbrun")
-        return failWith("unknown solver '" + c.name + "' (known: kangcho, exact, cg, explicit, chebyshev, desbrun)");
+        c.name != "desbrun" && c.name != "multigrid")
+        return failWith("unknown solver '" + c.name + "' (known: kangcho, exact, cg, explicit, chebyshev, desbrun, multigrid)");
     std::string_view rest = colon == std::string_view::npos ? "" : spec.substr(colon + 1);
     while (!rest.empty()) {
         const auto comma = rest.find(',');
@@ -84,8 +102,24 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
         else if (key == "strain_limit") ok = parseDouble(value, c.strainLimit) && c.strainLimit >= 0 && c.strainLimit < 10;
         else if (key == "strain_passes") ok = parseInt(value, c.strainLimitPasses) && c.strainLimitPasses >= 1 && c.strainLimitPasses <= 1000;
         else if (key == "rho" && c.name == "chebyshev") ok = parseDouble(value, c.rho) && c.rho >= 0 && c.rho < 1;
-        else if (key == "threads" && c.name == "kangcho") ok = parseInt(value, c.threads);
-        else if (key == "precision" && c.name == "kangcho") {
+        else if (key == "threads" && (c.name == "kangcho" || c.name == "multigrid")) ok = parseInt(value, c.threads);
+        else if (key == "cycles" && c.name == "multigrid") ok = parseInt(value, c.cycles);
+        else if (key == "max_cycles" && c.name == "multigrid") ok = parseInt(value, c.maxCycles);
+        else if (key == "pre_sweeps" && c.name == "multigrid") ok = parseInt(value, c.preSweeps);
+        else if (key == "post_sweeps" && c.name == "multigrid") ok = parseInt(value, c.postSweeps);
+        else if (key == "damping" && c.name == "multigrid") ok = parseDouble(value, c.damping);
+        else if (key == "coarsening" && c.name == "multigrid") {
+            ok = value == "auto" || value == "geometric" || value == "aggregation";
+            c.coarsening = value == "geometric"     ? SolverConfig::Coarsening::Geometric
+                           : value == "aggregation" ? SolverConfig::Coarsening::Aggregation
+                                                    : SolverConfig::Coarsening::Auto;
+        } else if (key == "krylov" && c.name == "multigrid") {
+            ok = value == "cg" || value == "none";
+            c.krylov = value == "cg";
+        } else if (key == "coarse" && c.name == "multigrid") {
+            ok = value == "galerkin" || value == "rediscretize";
+            c.rediscretize = value == "rediscretize";
+        } else if (key == "precision" && (c.name == "kangcho" || c.name == "multigrid")) {
             ok = value == "float" || value == "double";
             c.singlePrecision = value == "float";
         } else if (key == "impl" && c.name == "kangcho") {
@@ -95,11 +129,14 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
                                           : SolverConfig::Impl::Fast;
         }
         else if (key == "compression" && c.name != "explicit") ok = parseSwitch(value, c.compressionRule);
-        else if (key == "tolerance" && (c.name == "exact" || c.name == "cg")) ok = parseDouble(value, c.tolerance);
+        else if (key == "tolerance" && (c.name == "exact" || c.name == "cg" || c.name == "multigrid"))
+            ok = parseDouble(value, c.tolerance);
         else if (key == "max_iterations" && (c.name == "exact" || c.name == "cg")) ok = parseInt(value, c.maxIterations);
         else if (key == "method" && c.name == "exact") {
-            ok = value == "cg" || value == "cholesky";
-            c.useCG = value == "cg";
+            ok = value == "cg" || value == "cholesky" || value == "multigrid";
+            c.method = value == "cg"          ? SolverConfig::Method::CG
+                       : value == "multigrid" ? SolverConfig::Method::Multigrid
+                                              : SolverConfig::Method::Cholesky;
         } else if (key == "substeps" && c.name == "explicit") ok = parseInt(value, c.substeps);
         else return failWith("solver '" + c.name + "' has no parameter '" + key + "'");
         if (!ok)
@@ -114,8 +151,17 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
 
 std::string validate(const SolverConfig& c) {
     if (c.name != "kangcho" && c.name != "exact" && c.name != "cg" && c.name != "explicit" && c.name != "chebyshev" &&
-        c.name != "desbrun")
+        c.name != "desbrun" && c.name != "multigrid")
         return "unknown solver '" + c.name + "'";
+    if (c.cycles < 0 || c.cycles > 1000) return "cycles = " + std::to_string(c.cycles) + " must be in [0, 1000]";
+    if (c.maxCycles < 1 || c.maxCycles > 1000)
+        return "max_cycles = " + std::to_string(c.maxCycles) + " must be in [1, 1000]";
+    if (c.preSweeps < 0 || c.preSweeps > 100 || c.postSweeps < 0 || c.postSweeps > 100)
+        return "pre_sweeps and post_sweeps must be in [0, 100]";
+    if (c.preSweeps + c.postSweeps == 0) return "pre_sweeps + post_sweeps must be at least 1";
+    if (!(c.damping > 0 && c.damping <= 1.5)) return "damping = " + shortNumber(c.damping) + " must be in (0, 1.5]";
+    if (c.name == "multigrid" && c.singlePrecision && c.tolerance < 1e-6)
+        return "tolerance = " + shortNumber(c.tolerance) + " is below what precision=float can reach (>= 1e-6)";
     if (c.iterations < 0 || c.iterations > 100000)
         return "iterations = " + std::to_string(c.iterations) + " must be in [0, 100000]";
     if (!(c.tolerance > 0 && c.tolerance < 1))
@@ -215,6 +261,7 @@ public:
                     const StepInput& input) override {
         if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
         StepResult result;
+        if (input.damping && Index(input.damping->size()) != model.particleCount()) return {StepStatus::SolverFailed, -1};
         if (!computeDv(model, env, state, input, result)) result.status = StepStatus::SolverFailed;
         if (result.status != StepStatus::Ok) return result;
 
@@ -315,8 +362,29 @@ public:
     using ImplicitSolver::ImplicitSolver;
 
 protected:
+    bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
+                   StepResult& result) override {
+        if (config_.method != SolverConfig::Method::Multigrid)
+            return ImplicitSolver::computeDv(model, env, state, input, result);
+        // V-cycles until the relative residual is under the tolerance: an exact solve at O(n) per
+        // cycle. Not reaching it within max_iterations cycles is a failure, not an approximation.
+        if (!multigrid_) {
+            MultigridSettings s;
+            s.tolerance = config_.tolerance;
+            s.maxCycles = std::min(config_.maxIterations, 1000);
+            s.conjugateGradients = true;
+            multigrid_ = std::make_unique<Multigrid<double>>(s, 1);
+        }
+        MultigridStats stats;
+        const auto t0 = Clock::now();
+        const bool ok = multigrid_->solve(model, env, state, input, config_.compressionRule, dv_, stats, &profile_.forcesMs);
+        profile_.solveMs = msSince(t0) - profile_.forcesMs;
+        result.iterations = stats.cycles;
+        result.residual = stats.residual;
+        return ok && stats.residual <= config_.tolerance;
+    }
     bool solve(const Model& model, StepResult& result) override {
-        if (!config_.useCG) {
+        if (config_.method == SolverConfig::Method::Cholesky) {
             result.iterations = 1;
             return solveExact(model, sys_, dv_, &result.residual);
         }
@@ -335,6 +403,55 @@ protected:
         dv_ = Eigen::Map<const Points>(x.data(), 3, model.particleCount());
         return x.allFinite();
     }
+
+private:
+    std::unique_ptr<Multigrid<double>> multigrid_;
+};
+
+// Multigrid V-cycles on the system of the paper's step (multigrid.h): the paper's Jacobi sweep,
+// damped, as the smoother, Galerkin coarse operators, a direct solve on the coarsest level.
+// A fixed number of cycles, or (cycles=0) until the relative residual is under the tolerance,
+// with a cap; the count used is in the step's result.
+class MultigridSolver final : public ImplicitSolver {
+public:
+    explicit MultigridSolver(SolverConfig config) : ImplicitSolver(std::move(config)) {
+        MultigridSettings s;
+        s.cycles = config_.cycles;
+        s.tolerance = config_.tolerance;
+        s.maxCycles = config_.maxCycles;
+        s.preSweeps = config_.preSweeps;
+        s.postSweeps = config_.postSweeps;
+        s.damping = config_.damping;
+        s.coarsening = config_.coarsening == SolverConfig::Coarsening::Geometric     ? MultigridSettings::Coarsening::Geometric
+                       : config_.coarsening == SolverConfig::Coarsening::Aggregation ? MultigridSettings::Coarsening::Aggregation
+                                                                                     : MultigridSettings::Coarsening::Auto;
+        s.conjugateGradients = config_.krylov;
+        s.coarseOperator = config_.rediscretize ? MultigridSettings::CoarseOperator::Rediscretized
+                                                : MultigridSettings::CoarseOperator::Galerkin;
+        if (config_.singlePrecision) float_ = std::make_unique<Multigrid<float>>(s, config_.threads);
+        else double_ = std::make_unique<Multigrid<double>>(s, config_.threads);
+    }
+    std::string details() const override {
+        return "levels: " + (float_ ? float_->describeHierarchy() : double_->describeHierarchy());
+    }
+
+protected:
+    bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
+                   StepResult& result) override {
+        MultigridStats stats;
+        const auto t0 = Clock::now();
+        const bool ok = float_ ? float_->solve(model, env, state, input, config_.compressionRule, dv_, stats, &profile_.forcesMs)
+                               : double_->solve(model, env, state, input, config_.compressionRule, dv_, stats, &profile_.forcesMs);
+        profile_.solveMs = msSince(t0) - profile_.forcesMs;
+        result.iterations = stats.cycles;
+        result.residual = stats.residual;
+        return ok;
+    }
+    bool solve(const Model&, StepResult&) override { return false; }  // computeDv does it all
+
+private:
+    std::unique_ptr<Multigrid<float>> float_;
+    std::unique_ptr<Multigrid<double>> double_;
 };
 
 // Jacobi with Chebyshev semi-iterative acceleration (H. Wang, "A Chebyshev Semi-Iterative
@@ -515,9 +632,10 @@ std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* erro
     if (config.name == "kangcho") return std::unique_ptr<Solver>(new KangChoSolver(config));
     if (config.name == "chebyshev") return std::unique_ptr<Solver>(new ChebyshevSolver(config));
     if (config.name == "desbrun") return std::unique_ptr<Solver>(new DesbrunSolver(config));
+    if (config.name == "multigrid") return std::unique_ptr<Solver>(new MultigridSolver(config));
     if (config.name == "exact" || config.name == "cg") {
         SolverConfig c = config;
-        if (c.name == "cg") c.useCG = true;
+        if (c.name == "cg") c.method = SolverConfig::Method::CG;
         return std::unique_ptr<Solver>(new ExactSolver(c));
     }
     return std::unique_ptr<Solver>(new ExplicitSolver(config));

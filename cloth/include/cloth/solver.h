@@ -4,8 +4,16 @@
 //             (iterations=1 by default, any k >= 0; compression=on|off for eq. 17;
 //             threads=N, precision=double|float, impl=fast|gather|reference)
 //   exact     the same system solved to a relative residual of 1e-10 (sparse Cholesky);
-//             method=cg solves it with conjugate gradients (tolerance=, max_iterations=)
+//             method=cg solves it with conjugate gradients (tolerance=, max_iterations=),
+//             method=multigrid with multigrid V-cycles (O(n) per cycle; tolerance=,
+//             max_iterations= caps the cycles)
 //   cg        alias of exact with method=cg
+//   multigrid V-cycles on the same system (multigrid.h): cycles=N (0 = adaptive: until the
+//             relative residual is under tolerance=, at most max_cycles=), pre_sweeps=,
+//             post_sweeps=, damping= (smoother), coarsening=auto|geometric|aggregation,
+//             coarse=galerkin|rediscretize, krylov=cg|none (V-cycles as CG's preconditioner,
+//             the default, or as the iteration itself),
+//             threads=, precision=
 //   explicit  symplectic Euler with substeps=N
 //   desbrun   Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once
 //   chebyshev Jacobi with Chebyshev semi-iterative acceleration (Wang 2015), iterations=N,
@@ -27,8 +35,9 @@ struct SolverConfig {
     std::string name = "kangcho";
     int iterations = 1;            // kangcho: Jacobi iterations after dv(0)
     bool compressionRule = true;   // eq. 17 in the Jacobian
-    bool useCG = false;            // exact: conjugate gradients instead of Cholesky
-    Scalar tolerance = 1e-10;      // exact/cg: relative residual
+    enum class Method { Cholesky, CG, Multigrid };
+    Method method = Method::Cholesky;  // exact: how the system is solved
+    Scalar tolerance = 1e-10;      // exact/cg: relative residual (multigrid: 1e-3 by default)
     int maxIterations = 10000;     // cg
     int substeps = 1;              // explicit
     int threads = 1;               // kangcho: worker threads (results identical for any count)
@@ -39,6 +48,14 @@ struct SolverConfig {
     enum class Impl { Fast, Gather, Reference };
     Impl impl = Impl::Fast;
     Scalar rho = 0;                // chebyshev: Jacobi spectral radius; 0 = estimated each step
+    int cycles = 0;                // multigrid: fixed V-cycles; 0 = adaptive (tolerance, maxCycles)
+    int maxCycles = 8;             // multigrid: cap of the adaptive mode
+    int preSweeps = 2, postSweeps = 2;  // multigrid: smoothing sweeps around each coarse correction
+    Scalar damping = 0.7;          // multigrid: smoother x += damping W_ii^-1 r
+    enum class Coarsening { Auto, Geometric, Aggregation };
+    Coarsening coarsening = Coarsening::Auto;  // multigrid: auto = geometric on grids, else aggregation
+    bool rediscretize = false;     // multigrid: coarse operators from a coarse cloth, not Galerkin
+    bool krylov = true;            // multigrid: V-cycles precondition CG (krylov=cg) or iterate alone (none)
     Scalar strainLimit = 0;        // any solver: Provot anti-stretch pass, max stretch (0 = off)
     int strainLimitPasses = 4;
     std::string describe() const;  // "kangcho:iterations=1,compression=on"
@@ -56,8 +73,8 @@ const char* toString(StepStatus status);
 struct StepResult {
     StepStatus status = StepStatus::Ok;
     Index badParticle = -1;  // first particle with a non-finite position or velocity
-    int iterations = 0;      // solver iterations used (CG, Jacobi)
-    Scalar residual = 0;     // relative residual of the linear solve, where known
+    int iterations = 0;      // solver iterations used (CG, Jacobi, multigrid V-cycles)
+    Scalar residual = -1;    // relative residual of the linear solve; -1 where not computed
 };
 
 // Milliseconds spent in each phase of the last step.
@@ -76,6 +93,8 @@ public:
     const StepProfile& profile() const { return profile_; }
     // dv of the last step (implicit solvers), for solve-error diagnostics.
     const Points& lastDv() const { return dv_; }
+    // What the solver chose at run time, if anything (multigrid: its levels), for logs.
+    virtual std::string details() const { return {}; }
 
     explicit Solver(SolverConfig config) : config_(std::move(config)) {}
 

@@ -1,0 +1,909 @@
+#include "multigrid.h"
+
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "kernels.h"
+
+namespace cloth {
+
+namespace {
+
+// Sums over rows run in chunks of this many rows, each chunk summed in order, chunks added in
+// order: the same bits for any thread count.
+constexpr int kChunk = 256;
+
+// P: fine rows -> coarse columns, kept both ways (prolongation by fine row, restriction by coarse
+// row), so both are gathers that split across threads.
+struct Transfer {
+    int fine = 0, coarse = 0;
+    std::vector<int> pStart, pCol, rStart, rRow;
+    std::vector<double> pW, rW;
+    std::string label;  // "17x17" or "aggregates 123"
+
+    static Transfer fromSparse(const Eigen::SparseMatrix<double, Eigen::RowMajor>& P) {
+        Transfer t;
+        t.fine = int(P.rows());
+        t.coarse = int(P.cols());
+        auto fill = [](const auto& M, std::vector<int>& start, std::vector<int>& idx, std::vector<double>& w) {
+            start.assign(1, 0);
+            for (int r = 0; r < M.outerSize(); ++r) {
+                for (typename std::decay_t<decltype(M)>::InnerIterator it(M, r); it; ++it)
+                    if (it.value() != 0) idx.push_back(int(it.col())), w.push_back(it.value());
+                start.push_back(int(idx.size()));
+            }
+        };
+        fill(P, t.pStart, t.pCol, t.pW);
+        const Eigen::SparseMatrix<double, Eigen::RowMajor> R = P.transpose();
+        fill(R, t.rStart, t.rRow, t.rW);
+        return t;
+    }
+};
+
+// Linear interpolation from nc points to nf points over the same interval.
+std::vector<std::vector<std::pair<int, double>>> interpolation1d(int nf, int nc) {
+    std::vector<std::vector<std::pair<int, double>>> rows(nf);
+    for (int c = 0; c < nf; ++c) {
+        if (nc == nf) {
+            rows[c] = {{c, 1.0}};
+            continue;
+        }
+        const double t = double(c) * (nc - 1) / (nf - 1);
+        const int c0 = std::min(int(std::floor(t)), nc - 2);
+        const double fr = t - c0;
+        if (1 - fr > 1e-12) rows[c].push_back({c0, 1 - fr});
+        if (fr > 1e-12) rows[c].push_back({c0 + 1, fr});
+    }
+    return rows;
+}
+
+int coarserSide(int n) { return n <= 2 ? n : n / 2 + 1; }
+
+Transfer gridTransfer(int nx, int ny, int cx, int cy) {
+    const auto px = interpolation1d(nx, cx), py = interpolation1d(ny, cy);
+    std::vector<Eigen::Triplet<double>> t;
+    for (int r = 0; r < ny; ++r)
+        for (int c = 0; c < nx; ++c)
+            for (const auto& [R, wr] : py[r])
+                for (const auto& [C, wc] : px[c]) t.emplace_back(r * nx + c, R * cx + C, wr * wc);
+    Eigen::SparseMatrix<double, Eigen::RowMajor> P(nx * ny, cx * cy);
+    P.setFromTriplets(t.begin(), t.end());
+    Transfer tr = Transfer::fromSparse(P);
+    tr.label = std::to_string(cx) + "x" + std::to_string(cy);
+    return tr;
+}
+
+// Smoothed aggregation from a scalar stiffness Laplacian L (zero row sums). Strong connections:
+// -L_ij >= 0.25 max_k -L_ik (on a cloth mesh: edges, not the weaker bend springs).
+Transfer aggregationTransfer(const Eigen::SparseMatrix<double, Eigen::RowMajor>& L) {
+    const int n = int(L.rows());
+    std::vector<std::vector<std::pair<int, double>>> strong(n);
+    for (int i = 0; i < n; ++i) {
+        double maxOff = 0;
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(L, i); it; ++it)
+            if (it.col() != i) maxOff = std::max(maxOff, -it.value());
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(L, i); it; ++it)
+            if (it.col() != i && -it.value() >= 0.25 * maxOff && -it.value() > 0)
+                strong[i].push_back({int(it.col()), -it.value()});
+    }
+    std::vector<int> agg(n, -1);
+    int count = 0;
+    for (int i = 0; i < n; ++i) {  // 1: a point whose strong neighbours are all free, with them
+        if (agg[i] >= 0) continue;
+        bool free = true;
+        for (const auto& [j, w] : strong[i]) free = free && agg[j] < 0;
+        if (!free) continue;
+        agg[i] = count;
+        for (const auto& [j, w] : strong[i]) agg[j] = count;
+        ++count;
+    }
+    std::vector<int> joined = agg;
+    for (int i = 0; i < n; ++i) {  // 2: the rest join their strongest aggregated neighbour
+        if (agg[i] >= 0) continue;
+        double best = 0;
+        for (const auto& [j, w] : strong[i])
+            if (agg[j] >= 0 && w > best) best = w, joined[i] = agg[j];
+    }
+    for (int i = 0; i < n; ++i)  // 3: isolated points are aggregates of their own
+        if (joined[i] < 0) joined[i] = count++;
+    // P = (I - omega D^-1 Lf) P_tent, Lf: the strong part of L with zero row sums, omega =
+    // 4 / (3 rho), rho the spectral radius of D^-1 Lf (by power iteration; at most 2).
+    std::vector<double> diag(n, 0.0);
+    for (int i = 0; i < n; ++i)
+        for (const auto& [j, w] : strong[i]) diag[i] += w;
+    double rho = 2;
+    {
+        Eigen::VectorXd x(n), y(n);
+        for (int i = 0; i < n; ++i) x[i] = (i % 2 ? 1.0 : -1.0) + 0.1 * std::sin(double(i));
+        for (int it = 0; it < 30; ++it) {
+            for (int i = 0; i < n; ++i) {
+                double s = diag[i] * x[i];
+                for (const auto& [j, w] : strong[i]) s -= w * x[j];
+                y[i] = diag[i] > 0 ? s / diag[i] : 0.0;
+            }
+            rho = y.norm() / std::max(x.norm(), 1e-300);
+            x = y / std::max(y.norm(), 1e-300);
+        }
+        rho = std::clamp(rho, 1.0, 2.0);
+    }
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < n; ++i) {
+        const double d = diag[i];
+        if (d == 0) {
+            t.emplace_back(i, joined[i], 1.0);
+            continue;
+        }
+        const double s = 4.0 / (3.0 * rho) / d;
+        t.emplace_back(i, joined[i], 1.0 - s * d);
+        for (const auto& [j, w] : strong[i]) t.emplace_back(i, joined[j], s * w);
+    }
+    Eigen::SparseMatrix<double, Eigen::RowMajor> P(n, count);
+    P.setFromTriplets(t.begin(), t.end());
+    P.prune(1e-14, 1);
+    Transfer tr = Transfer::fromSparse(P);
+    tr.label = std::to_string(count);
+    return tr;
+}
+
+template <class T>
+void symAxpy(T w, const T* s, T* out) {
+    for (int k = 0; k < 6; ++k) out[k] += w * s[k];
+}
+
+}  // namespace
+
+template <class T>
+Eigen::MatrixXd BlockMatrix<T>::dense() const {
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+    auto put = [&M](int i, int j, const T* s) {
+        const int idx[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) M(3 * i + r, 3 * j + c) += double(s[idx[r][c]]);
+    };
+    for (int i = 0; i < n; ++i) {
+        put(i, i, &blocks[6 * std::size_t(i)]);
+        for (int e = start[i]; e < start[i + 1]; ++e) put(i, col[e], block(e));
+    }
+    return M;
+}
+
+namespace {
+
+// The springs of one level's cloth (level 0: the model; re-discretized coarse levels: the same
+// cloth on a coarser grid), with their per-step terms (kernels.h).
+template <class T>
+struct SpringSet {
+    std::vector<int> si, sj, adjSpring;
+    std::vector<T> k, rest, adjSign;  // adjSign: +1 where the row is the spring's i end
+    std::vector<T> ux, uy, uz, a, b, fm;
+
+    void assign(const Model& m) {
+        const auto& springs = m.springs();
+        const int S = m.springCount();
+        si.resize(S), sj.resize(S), k.resize(S), rest.resize(S);
+        for (int s = 0; s < S; ++s)
+            si[s] = springs[s].i, sj[s] = springs[s].j, k[s] = T(springs[s].k), rest[s] = T(springs[s].rest);
+        for (auto* v : {&ux, &uy, &uz, &a, &b, &fm}) v->assign(S, T(0));
+        adjSpring = m.adjSpring();
+        adjSign.resize(adjSpring.size());
+        for (int p = 0; p < m.particleCount(); ++p)
+            for (int e = m.adjStart()[p]; e < m.adjStart()[p + 1]; ++e)
+                adjSign[e] = springs[adjSpring[e]].i == p ? T(1) : T(-1);
+    }
+    // Eqs. 15-17 at positions xs (3n, particle-major).
+    void compute(const double* xs, bool compressionRule, ThreadPool& pool) {
+        pool.run(int(si.size()), [&](int begin, int end) {
+            for (int s = begin; s < end; ++s) {
+                const int i = si[s], j = sj[s];
+                const SpringTerms<T> t = springTerms(T(xs[3 * j] - xs[3 * i]), T(xs[3 * j + 1] - xs[3 * i + 1]),
+                                                     T(xs[3 * j + 2] - xs[3 * i + 2]), k[s], rest[s], compressionRule);
+                ux[s] = t.ux, uy[s] = t.uy, uz[s] = t.uz, a[s] = t.a, b[s] = t.b, fm[s] = t.fm;
+            }
+        });
+    }
+    // J = a I + b u u^T of adjacency entry e, as 6 numbers.
+    void jacobian(int e, T* J) const {
+        const int s = adjSpring[e];
+        const T x = ux[s], y = uy[s], z = uz[s], as = a[s], bs = b[s];
+        J[0] = as + bs * x * x, J[1] = bs * x * y, J[2] = bs * x * z;
+        J[3] = as + bs * y * y, J[4] = bs * y * z, J[5] = as + bs * z * z;
+    }
+};
+
+// A coarse grid cloth with the same rectangle, stiffness per spring kind and total mass as `fine`.
+Model coarserCloth(const Model& fine, int cx, int cy) {
+    const int nx = fine.gridNx(), ny = fine.gridNy();
+    const Points& rest = fine.restPositions();
+    GridDesc d;
+    d.nx = cx, d.ny = cy;
+    d.origin = rest.col(0);
+    const Vec3 u = rest.col(nx - 1) - rest.col(0), v = rest.col((ny - 1) * nx) - rest.col(0);
+    d.width = u.norm(), d.height = v.norm();
+    d.axisU = u, d.axisV = v;
+    d.totalMass = fine.totalMass();
+    d.stiffness.bend = 0;
+    for (const Spring& s : fine.springs())
+        (s.kind == SpringKind::Structural ? d.stiffness.structural
+                                          : s.kind == SpringKind::Shear ? d.stiffness.shear : d.stiffness.bend) = s.k;
+    return Model::fromGrid(d);
+}
+
+}  // namespace
+
+template <class T>
+struct Multigrid<T>::Impl {
+    MultigridSettings settings;
+    ThreadPool pool;
+    std::uint64_t modelId = 0;
+    std::string coarseningName;
+
+    struct Level {
+        BlockMatrix<T> A;
+        std::vector<T> dinv, active;  // 6n; 1 for a row with an unknown, 0 for a pinned (empty) one
+        std::vector<T> x, b, r;       // 3n
+        Transfer P;                   // to the next coarser level (unused on the last)
+        // Galerkin plan for the next level's blocks: dst block d gets sum over
+        // [planStart[d], planStart[d+1]) of planW * this level's block planSrc.
+        std::vector<int> planStart, planSrc;
+        std::vector<T> planW;
+        // Levels that carry a cloth (level 0, and re-discretized coarse levels): its springs,
+        // positions, pinned rows and the spring-free part of W_ii (mass, drag, damping).
+        std::shared_ptr<const Model> cloth;
+        SpringSet<T> springs;
+        Transfer sample;  // positions of this level from the finer level's (re-discretized)
+        std::vector<double> pos;
+        std::vector<T> base;
+        std::vector<unsigned char> pinned;
+    };
+    std::vector<Level> levels;
+    Eigen::LLT<Eigen::MatrixXd> coarsest;
+    Eigen::LDLT<Eigen::MatrixXd> coarsestFallback;
+    bool useFallback = false;
+    std::vector<T> pinDv;  // level 0
+    std::vector<double> partial;
+
+    Impl(const MultigridSettings& s, int threads) : settings(s), pool(threads) {}
+
+    void prepare(const Model& model);
+    void buildFine(const Model& model, const Environment& env, const State& state, const StepInput& input,
+                   bool compressionRule);
+    template <class RowHook>
+    void assembleCloth(int l, T h2, const RowHook& hook);
+    void rediscretize(int l, T h2, bool compressionRule);
+    void galerkin(int l);
+    void coarseOperators(T h2, bool compressionRule);
+    void factorCoarsest();
+    void product(int l, const std::vector<T>& x, const std::vector<T>* b, std::vector<T>& out);
+    void residual(int l, const std::vector<T>& x, const std::vector<T>& b, std::vector<T>& r) { product(l, x, &b, r); }
+    void smooth(int l, bool residualKnown);
+    void cycle(int l, bool residualKnown);
+    double norm(const std::vector<T>& v);
+    double dot(const std::vector<T>& a, const std::vector<T>& b);
+    void precondition(const std::vector<T>& r, std::vector<T>& z);  // z = V-cycle(r) from zero
+    void stationary(double bNorm, MultigridStats& stats);
+    void conjugateGradients(double bNorm, MultigridStats& stats);
+    std::vector<T> cgX, cgR, cgZ, cgP, cgQ;
+
+    int chunks(int n) const { return (n + kChunk - 1) / kChunk; }
+    T lastH2 = 0;
+    bool lastCompression = true;
+};
+
+template <class T>
+void Multigrid<T>::Impl::prepare(const Model& model) {
+    modelId = model.id();
+    const int n = model.particleCount();
+    levels.clear();
+    levels.emplace_back();
+    {
+        Level& L0 = levels[0];
+        L0.A.n = n;
+        L0.A.start = model.adjStart();
+        L0.A.col = model.adjOther();
+        L0.A.slot = model.adjSpring();
+        L0.A.slots = model.springCount();
+        L0.springs.assign(model);
+        L0.pinned.assign(n, 0);
+        L0.base.assign(6 * std::size_t(n), T(0));
+    }
+    pinDv.assign(3 * std::size_t(n), T(0));
+
+    using Coarsening = MultigridSettings::Coarsening;
+    bool geometric = settings.coarsening == Coarsening::Geometric ||
+                     (settings.coarsening == Coarsening::Auto && model.gridNx() > 0);
+    int nx = model.gridNx(), ny = model.gridNy();
+    std::ostringstream label;
+    if (geometric && nx > 0) label << "geometric " << nx << "x" << ny;
+    else if (geometric) label << "aggregation (geometric asked for, but the model is not a grid) " << n;
+    else label << "aggregation " << n;
+    geometric = geometric && nx > 0;
+    const bool rediscretized = geometric && settings.coarseOperator == MultigridSettings::CoarseOperator::Rediscretized;
+    if (settings.coarseOperator == MultigridSettings::CoarseOperator::Rediscretized && !geometric)
+        label << " (Galerkin: re-discretization needs a grid)";
+
+    // Scalar stiffness Laplacian for aggregation (coarsened along with the blocks).
+    Eigen::SparseMatrix<double, Eigen::RowMajor> lap;
+    if (!geometric) {
+        std::vector<Eigen::Triplet<double>> t;
+        for (const Spring& s : model.springs()) {
+            t.emplace_back(s.i, s.j, -s.k), t.emplace_back(s.j, s.i, -s.k);
+            t.emplace_back(s.i, s.i, s.k), t.emplace_back(s.j, s.j, s.k);
+        }
+        lap.resize(n, n);
+        lap.setFromTriplets(t.begin(), t.end());
+    }
+
+    while (levels.back().A.n > settings.coarsestParticles) {
+        Transfer P;
+        if (geometric) {
+            const int cx = coarserSide(nx), cy = coarserSide(ny);
+            if (cx == nx && cy == ny) break;
+            P = gridTransfer(nx, ny, cx, cy);
+            Level coarse;
+            if (rediscretized) {
+                const Model& fineCloth = levels.size() == 1 ? model : *levels.back().cloth;
+                coarse.cloth = std::make_shared<const Model>(coarserCloth(fineCloth, cx, cy));
+                coarse.sample = gridTransfer(cx, cy, nx, ny);  // coarse nodes sampled on the finer grid
+            }
+            nx = cx, ny = cy;
+            label << " " << P.label;
+            levels.back().P = std::move(P);
+            if (rediscretized) {
+                const Model& c = *coarse.cloth;
+                coarse.A.n = c.particleCount();
+                coarse.A.start = c.adjStart();
+                coarse.A.col = c.adjOther();
+                coarse.A.slot = c.adjSpring();
+                coarse.A.slots = c.springCount();
+                coarse.springs.assign(c);
+                coarse.pinned.assign(coarse.A.n, 0);
+                coarse.base.assign(6 * std::size_t(coarse.A.n), T(0));
+                coarse.pos.assign(3 * std::size_t(coarse.A.n), 0.0);
+                levels.push_back(std::move(coarse));
+                continue;
+            }
+            levels.push_back(std::move(coarse));
+        } else {
+            P = aggregationTransfer(lap);
+            if (P.coarse >= levels.back().A.n) break;  // no coarsening left (every point its own aggregate)
+            Eigen::SparseMatrix<double, Eigen::RowMajor> Ps(P.fine, P.coarse);
+            std::vector<Eigen::Triplet<double>> t;
+            for (int i = 0; i < P.fine; ++i)
+                for (int e = P.pStart[i]; e < P.pStart[i + 1]; ++e) t.emplace_back(i, P.pCol[e], P.pW[e]);
+            Ps.setFromTriplets(t.begin(), t.end());
+            lap = Eigen::SparseMatrix<double, Eigen::RowMajor>(Ps.transpose() * lap * Ps);
+            lap.prune(1e-12, 1);
+            label << " " << P.label;
+            levels.back().P = std::move(P);
+            levels.emplace_back();
+        }
+        // Galerkin: the coarse pattern (blocks (I, J) reached by some fine block (i, j) with
+        // P_iI P_jJ != 0) and the plan.
+        Level& fine = levels[levels.size() - 2];
+        Level& coarse = levels.back();
+        const Transfer& Pf = fine.P;
+        const int nc = Pf.coarse, nf = fine.A.n;
+        auto forPairs = [&](int i, int j, auto&& fn) {
+            for (int a = Pf.pStart[i]; a < Pf.pStart[i + 1]; ++a)
+                for (int b = Pf.pStart[j]; b < Pf.pStart[j + 1]; ++b) fn(Pf.pCol[a], Pf.pCol[b], Pf.pW[a] * Pf.pW[b]);
+        };
+        std::vector<std::vector<int>> cols(nc);
+        for (int i = 0; i < nf; ++i) {
+            auto add = [&](int I, int J, double) {
+                if (I != J) cols[I].push_back(J);
+            };
+            forPairs(i, i, add);
+            for (int e = fine.A.start[i]; e < fine.A.start[i + 1]; ++e) forPairs(i, fine.A.col[e], add);
+        }
+        coarse.A.n = nc;
+        coarse.A.start.assign(1, 0);
+        for (auto& c : cols) {
+            std::sort(c.begin(), c.end());
+            c.erase(std::unique(c.begin(), c.end()), c.end());
+            coarse.A.col.insert(coarse.A.col.end(), c.begin(), c.end());
+            coarse.A.start.push_back(int(coarse.A.col.size()));
+        }
+        auto entryOf = [&coarse](int I, int J) {
+            const auto b = coarse.A.col.begin() + coarse.A.start[I], e = coarse.A.col.begin() + coarse.A.start[I + 1];
+            return int(std::lower_bound(b, e, J) - coarse.A.col.begin());
+        };
+        // One slot per pair (I < J), shared with (J, I).
+        coarse.A.slot.assign(coarse.A.entries(), -1);
+        for (int I = 0; I < nc; ++I)
+            for (int e = coarse.A.start[I]; e < coarse.A.start[I + 1]; ++e)
+                if (coarse.A.col[e] > I) coarse.A.slot[e] = coarse.A.slots++;
+        for (int I = 0; I < nc; ++I)
+            for (int e = coarse.A.start[I]; e < coarse.A.start[I + 1]; ++e)
+                if (coarse.A.col[e] < I) coarse.A.slot[e] = coarse.A.slot[entryOf(coarse.A.col[e], I)];
+        // The plan fills the diagonal and the slots from (I, J) with I < J; the fine matrix is
+        // symmetric, so the contributions with I > J are the same blocks mirrored.
+        std::vector<std::pair<int, int>> pairs;  // (dst, src)
+        std::vector<double> weights;
+        for (int i = 0; i < nf; ++i) {
+            auto add = [&](int src) {
+                return [&, src](int I, int J, double w) {
+                    if (I > J) return;
+                    pairs.push_back({I == J ? I : nc + coarse.A.slot[entryOf(I, J)], src});
+                    weights.push_back(w);
+                };
+            };
+            forPairs(i, i, add(i));
+            for (int e = fine.A.start[i]; e < fine.A.start[i + 1]; ++e)
+                forPairs(i, fine.A.col[e], add(nf + fine.A.slot[e]));
+        }
+        const int dsts = nc + coarse.A.slots;
+        fine.planStart.assign(dsts + 1, 0);
+        for (const auto& p : pairs) ++fine.planStart[p.first + 1];
+        for (int d = 0; d < dsts; ++d) fine.planStart[d + 1] += fine.planStart[d];
+        std::vector<int> fillAt(fine.planStart.begin(), fine.planStart.end() - 1);
+        fine.planSrc.resize(pairs.size());
+        fine.planW.resize(pairs.size());
+        for (std::size_t q = 0; q < pairs.size(); ++q) {
+            const int at = fillAt[pairs[q].first]++;
+            fine.planSrc[at] = pairs[q].second;
+            fine.planW[at] = T(weights[q]);
+        }
+    }
+    coarseningName = label.str() + (rediscretized ? " (re-discretized)" : " (Galerkin)");
+    for (Level& L : levels) {
+        L.A.blocks.assign(6 * std::size_t(L.A.n + L.A.slots), T(0));
+        L.dinv.assign(6 * std::size_t(L.A.n), T(0));
+        L.active.assign(L.A.n, T(0));
+        for (auto* v : {&L.x, &L.b, &L.r}) v->assign(3 * std::size_t(L.A.n), T(0));
+    }
+}
+
+// W of a level that carries a cloth: W_ii = base_i + h^2 sum_j J_ij (eq. 12),
+// W_ij = -h^2 J_ij (eqs. 16, 17); rows and columns of pinned particles are zero. The springs'
+// terms must be current. hook(i, e, J) sees every entry of a free row (for level 0's b).
+template <class T>
+template <class RowHook>
+void Multigrid<T>::Impl::assembleCloth(int l, T h2, const RowHook& hook) {
+    Level& L = levels[l];
+    const int n = L.A.n;
+    pool.run(n, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+            T* D = &L.A.blocks[6 * std::size_t(i)];
+            // Each spring's slot is written by the row of its i end: -h^2 J, or zero when either
+            // end is pinned.
+            if (L.pinned[i]) {
+                for (int q = 0; q < 6; ++q) D[q] = T(0);
+                for (int e = L.A.start[i]; e < L.A.start[i + 1]; ++e)
+                    if (L.springs.adjSign[e] > 0)
+                        for (int q = 0; q < 6; ++q) L.A.blocks[6 * std::size_t(n + L.A.slot[e]) + q] = T(0);
+                L.active[i] = T(0);
+                for (int q = 0; q < 6; ++q) L.dinv[6 * std::size_t(i) + q] = T(0);
+                continue;
+            }
+            L.active[i] = T(1);
+            T K[6] = {0, 0, 0, 0, 0, 0};
+            for (int e = L.A.start[i]; e < L.A.start[i + 1]; ++e) {
+                T J[6];
+                L.springs.jacobian(e, J);
+                for (int q = 0; q < 6; ++q) K[q] += J[q];
+                if (L.springs.adjSign[e] > 0) {
+                    T* O = &L.A.blocks[6 * std::size_t(n + L.A.slot[e])];
+                    const bool pinnedNeighbour = L.pinned[L.A.col[e]];
+                    for (int q = 0; q < 6; ++q) O[q] = pinnedNeighbour ? T(0) : -h2 * J[q];
+                }
+                hook(i, e, J);
+            }
+            for (int q = 0; q < 6; ++q) D[q] = L.base[6 * std::size_t(i) + q] + h2 * K[q];
+            symmetricInverse(D, &L.dinv[6 * std::size_t(i)]);
+        }
+    });
+}
+
+// Level 0 at this state (the system of system.cpp's buildSystem, gathered per particle):
+// f (eq. 15, gravity, drag, external), W (eqs. 12, 16, 17 with drag and h C_i), and
+// b_i = h f_i + h^2 sum_j J_ij (v_j - v_i) (eq. 7) with pinned neighbours' prescribed dv in it.
+template <class T>
+void Multigrid<T>::Impl::buildFine(const Model& model, const Environment& env, const State& state,
+                                   const StepInput& input, bool compressionRule) {
+    const int n = model.particleCount();
+    const T h = T(input.h), h2 = h * h, c = T(env.drag);
+    const T g[3] = {T(env.gravity.x()), T(env.gravity.y()), T(env.gravity.z())};
+    const double* xs = state.x.data();
+    const double* vs = state.v.data();
+    const double* ext = input.externalForce ? input.externalForce->data() : nullptr;
+    Level& L = levels[0];
+    std::fill(L.pinned.begin(), L.pinned.end(), 0);
+    std::fill(pinDv.begin(), pinDv.end(), T(0));
+    for (const Pin& p : input.pins) {
+        if (p.particle < 0 || p.particle >= n) continue;
+        L.pinned[p.particle] = 1;
+        for (int a = 0; a < 3; ++a)  // the velocity change that lands the particle on its target
+            pinDv[3 * p.particle + a] = T((p.x[a] - xs[3 * p.particle + a]) / input.h - vs[3 * p.particle + a]);
+    }
+    const auto& mass = model.masses();
+    for (int i = 0; i < n; ++i) {
+        T* B = &L.base[6 * std::size_t(i)];
+        const T md = T(mass[i]) * (T(1) + h * c);
+        B[0] = B[3] = B[5] = md;
+        B[1] = B[2] = B[4] = T(0);
+        if (input.damping) {
+            const Mat3& C = (*input.damping)[i];
+            B[0] += h * T(C(0, 0)), B[1] += h * T(C(0, 1)), B[2] += h * T(C(0, 2));
+            B[3] += h * T(C(1, 1)), B[4] += h * T(C(1, 2)), B[5] += h * T(C(2, 2));
+        }
+    }
+    L.springs.compute(xs, compressionRule, pool);
+    // b accumulates per row inside the assembly: f from the springs, h^2 J (v_j - v_i [+ pin dv_j]).
+    std::fill(L.b.begin(), L.b.end(), T(0));
+    const SpringSet<T>& S = L.springs;
+    assembleCloth(0, h2, [&](int i, int e, const T* J) {
+        const int s = S.adjSpring[e], j = L.A.col[e];
+        T* bi = &L.b[3 * std::size_t(i)];
+        const T fs = S.adjSign[e] * S.fm[s];
+        T dq[3] = {T(vs[3 * j] - vs[3 * i]), T(vs[3 * j + 1] - vs[3 * i + 1]), T(vs[3 * j + 2] - vs[3 * i + 2])};
+        if (L.pinned[j])
+            for (int a = 0; a < 3; ++a) dq[a] += pinDv[3 * j + a];
+        T Jq[3];
+        symmetricTimes(J, dq, Jq);
+        bi[0] += h * fs * S.ux[s] + h2 * Jq[0];
+        bi[1] += h * fs * S.uy[s] + h2 * Jq[1];
+        bi[2] += h * fs * S.uz[s] + h2 * Jq[2];
+    });
+    pool.run(n, [&](int begin, int end) {  // + h (m (g - c v) + external) on free rows
+        for (int i = begin; i < end; ++i) {
+            if (L.pinned[i]) continue;
+            const T m = T(mass[i]);
+            for (int a = 0; a < 3; ++a)
+                L.b[3 * std::size_t(i) + a] +=
+                    h * (m * (g[a] - c * T(vs[3 * i + a])) + (ext ? T(ext[3 * i + a]) : T(0)));
+        }
+    });
+    lastH2 = h2;
+    lastCompression = compressionRule;
+    if (levels.size() > 1 && levels[1].cloth) L.pos.assign(xs, xs + 3 * std::size_t(n));
+}
+
+// Level l + 1 re-discretized: positions sampled from level l, the coarse cloth's springs there,
+// its diagonal base (mass, drag, damping) restricted from level l (sum_i P_iI base_i), a coarse
+// particle pinned where its nearest finer particle is.
+template <class T>
+void Multigrid<T>::Impl::rediscretize(int l, T h2, bool compressionRule) {
+    const Level& F = levels[l];
+    Level& C = levels[l + 1];
+    const Transfer& S = C.sample;
+    const Transfer& P = F.P;
+    pool.run(C.A.n, [&](int begin, int end) {
+        for (int I = begin; I < end; ++I) {
+            double x[3] = {0, 0, 0};
+            for (int e = S.pStart[I]; e < S.pStart[I + 1]; ++e)
+                for (int a = 0; a < 3; ++a) x[a] += S.pW[e] * F.pos[3 * std::size_t(S.pCol[e]) + a];
+            for (int a = 0; a < 3; ++a) C.pos[3 * std::size_t(I) + a] = x[a];
+            T base[6] = {0, 0, 0, 0, 0, 0};
+            double best = -1;
+            bool pinned = false;
+            for (int e = P.rStart[I]; e < P.rStart[I + 1]; ++e) {
+                const int i = P.rRow[e];
+                symAxpy(T(P.rW[e]), &F.base[6 * std::size_t(i)], base);
+                if (P.rW[e] > best) best = P.rW[e], pinned = F.pinned[i] != 0;
+            }
+            std::copy(base, base + 6, &C.base[6 * std::size_t(I)]);
+            C.pinned[I] = pinned;
+        }
+    });
+    C.springs.compute(C.pos.data(), compressionRule, pool);
+    assembleCloth(l + 1, h2, [](int, int, const T*) {});
+}
+
+template <class T>
+void Multigrid<T>::Impl::coarseOperators(T h2, bool compressionRule) {
+    for (int l = 0; l + 1 < int(levels.size()); ++l) {
+        if (levels[l + 1].cloth) rediscretize(l, h2, compressionRule);
+        else galerkin(l);
+    }
+    factorCoarsest();
+}
+
+// Level l + 1's blocks from level l's by the plan: W_c = P^T W P.
+template <class T>
+void Multigrid<T>::Impl::galerkin(int l) {
+    const Level& F = levels[l];
+    Level& C = levels[l + 1];
+    const int dsts = C.A.n + C.A.slots;
+    pool.run(dsts, [&](int begin, int end) {
+        for (int d = begin; d < end; ++d) {
+            T acc[6] = {0, 0, 0, 0, 0, 0};
+            for (int p = F.planStart[d]; p < F.planStart[d + 1]; ++p)
+                symAxpy(F.planW[p], &F.A.blocks[6 * std::size_t(F.planSrc[p])], acc);
+            std::copy(acc, acc + 6, &C.A.blocks[6 * std::size_t(d)]);
+        }
+    });
+    pool.run(C.A.n, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+            const T* D = &C.A.blocks[6 * std::size_t(i)];
+            // A row that no unknown reaches (all of its fine points pinned) is empty.
+            C.active[i] = (D[0] + D[3] + D[5]) != T(0) ? T(1) : T(0);
+            symmetricInverse(D, &C.dinv[6 * std::size_t(i)]);
+        }
+    });
+}
+
+template <class T>
+void Multigrid<T>::Impl::factorCoarsest() {
+    const Level& L = levels.back();
+    Eigen::MatrixXd M = L.A.dense();
+    for (int i = 0; i < L.A.n; ++i)
+        if (L.active[i] == T(0)) M.block<3, 3>(3 * i, 3 * i).setIdentity();
+    coarsest.compute(M);
+    useFallback = coarsest.info() != Eigen::Success;
+    if (useFallback) coarsestFallback.compute(M);
+}
+
+// out = b - A x (b given), or out = A x (b null), rows [begin, end).
+template <class T>
+void blockProduct(const BlockMatrix<T>& A, const T* __restrict x, const T* __restrict b, T* __restrict out, int begin,
+                  int end) {
+    const int n = A.n;
+    const int* __restrict start = A.start.data();
+    const int* __restrict col = A.col.data();
+    const int* __restrict slot = A.slot.data();
+    const T* __restrict diag = A.blocks.data();
+    const T* __restrict off = A.blocks.data() + 6 * std::size_t(n);
+    for (int i = begin; i < end; ++i) {
+        const T* d = diag + 6 * std::size_t(i);
+        const T* xi = x + 3 * std::size_t(i);
+        T y0 = d[0] * xi[0] + d[1] * xi[1] + d[2] * xi[2];
+        T y1 = d[1] * xi[0] + d[3] * xi[1] + d[4] * xi[2];
+        T y2 = d[2] * xi[0] + d[4] * xi[1] + d[5] * xi[2];
+        for (int e = start[i]; e < start[i + 1]; ++e) {
+            const T* s = off + 6 * std::size_t(slot[e]);
+            const T* xj = x + 3 * std::size_t(col[e]);
+            const T q0 = xj[0], q1 = xj[1], q2 = xj[2];
+            y0 += s[0] * q0 + s[1] * q1 + s[2] * q2;
+            y1 += s[1] * q0 + s[3] * q1 + s[4] * q2;
+            y2 += s[2] * q0 + s[4] * q1 + s[5] * q2;
+        }
+        T* o = out + 3 * std::size_t(i);
+        if (b) {
+            const T* bi = b + 3 * std::size_t(i);
+            o[0] = bi[0] - y0, o[1] = bi[1] - y1, o[2] = bi[2] - y2;
+        } else {
+            o[0] = y0, o[1] = y1, o[2] = y2;
+        }
+    }
+}
+
+template <class T>
+void Multigrid<T>::Impl::product(int l, const std::vector<T>& x, const std::vector<T>* b, std::vector<T>& out) {
+    const BlockMatrix<T>& A = levels[l].A;
+    out.resize(x.size());
+    const T* bp = b ? b->data() : nullptr;
+    pool.run(A.n, [&](int begin, int end) { blockProduct(A, x.data(), bp, out.data(), begin, end); });
+}
+
+// Damped block Jacobi: x += omega W_ii^-1 (b - W x).
+template <class T>
+void Multigrid<T>::Impl::smooth(int l, bool residualKnown) {
+    Level& L = levels[l];
+    if (!residualKnown) residual(l, L.x, L.b, L.r);
+    const T omega = T(settings.damping);
+    pool.run(L.A.n, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+            T d[3];
+            symmetricTimes(&L.dinv[6 * std::size_t(i)], &L.r[3 * std::size_t(i)], d);
+            for (int a = 0; a < 3; ++a) L.x[3 * std::size_t(i) + a] += omega * d[a];
+        }
+    });
+}
+
+// One V-cycle on level l for L.b from L.x (residualKnown: L.r already holds b - W x).
+template <class T>
+void Multigrid<T>::Impl::cycle(int l, bool residualKnown) {
+    Level& L = levels[l];
+    if (l + 1 == int(levels.size())) {
+        Eigen::VectorXd b(3 * L.A.n);
+        for (int q = 0; q < 3 * L.A.n; ++q) b[q] = double(L.b[q]) * double(L.active[q / 3]);
+        const Eigen::VectorXd x = useFallback ? Eigen::VectorXd(coarsestFallback.solve(b)) : Eigen::VectorXd(coarsest.solve(b));
+        for (int q = 0; q < 3 * L.A.n; ++q) L.x[q] = T(x[q]) * L.active[q / 3];
+        return;
+    }
+    for (int s = 0; s < settings.preSweeps; ++s) smooth(l, s == 0 && residualKnown);
+    if (settings.preSweeps > 0 || !residualKnown) residual(l, L.x, L.b, L.r);
+    Level& C = levels[l + 1];
+    const Transfer& P = L.P;
+    pool.run(C.A.n, [&](int begin, int end) {  // b_c = P^T r; x_c = 0, so r_c = b_c
+        for (int I = begin; I < end; ++I) {
+            T acc[3] = {0, 0, 0};
+            for (int e = P.rStart[I]; e < P.rStart[I + 1]; ++e) {
+                const T w = T(P.rW[e]);
+                const T* r = &L.r[3 * std::size_t(P.rRow[e])];
+                acc[0] += w * r[0], acc[1] += w * r[1], acc[2] += w * r[2];
+            }
+            for (int a = 0; a < 3; ++a) {
+                C.b[3 * std::size_t(I) + a] = acc[a];
+                C.r[3 * std::size_t(I) + a] = acc[a];
+                C.x[3 * std::size_t(I) + a] = T(0);
+            }
+        }
+    });
+    cycle(l + 1, true);
+    pool.run(L.A.n, [&](int begin, int end) {  // x += P x_c on rows with an unknown
+        for (int i = begin; i < end; ++i) {
+            T acc[3] = {0, 0, 0};
+            for (int e = P.pStart[i]; e < P.pStart[i + 1]; ++e) {
+                const T w = T(P.pW[e]);
+                const T* xc = &C.x[3 * std::size_t(P.pCol[e])];
+                acc[0] += w * xc[0], acc[1] += w * xc[1], acc[2] += w * xc[2];
+            }
+            for (int a = 0; a < 3; ++a) L.x[3 * std::size_t(i) + a] += L.active[i] * acc[a];
+        }
+    });
+    for (int s = 0; s < settings.postSweeps; ++s) smooth(l, false);
+}
+
+template <class T>
+double Multigrid<T>::Impl::dot(const std::vector<T>& a, const std::vector<T>& b) {
+    const int n = int(a.size() / 3);
+    partial.assign(chunks(n), 0.0);
+    pool.run(chunks(n), [&](int begin, int end) {
+        for (int ch = begin; ch < end; ++ch) {
+            double s = 0;
+            const std::size_t last = std::min(a.size(), 3 * std::size_t(ch + 1) * kChunk);
+            for (std::size_t q = 3 * std::size_t(ch) * kChunk; q < last; ++q) s += double(a[q]) * double(b[q]);
+            partial[ch] = s;
+        }
+    });
+    double s = 0;
+    for (double p : partial) s += p;
+    return s;
+}
+
+template <class T>
+double Multigrid<T>::Impl::norm(const std::vector<T>& v) {
+    return std::sqrt(dot(v, v));
+}
+
+template <class T>
+void Multigrid<T>::Impl::precondition(const std::vector<T>& r, std::vector<T>& z) {
+    Level& L = levels[0];
+    L.b = r;
+    L.r = r;
+    std::fill(L.x.begin(), L.x.end(), T(0));
+    cycle(0, true);
+    z = L.x;
+}
+
+// V-cycles as a stationary iteration on W x = b (L.b), from x = 0.
+template <class T>
+void Multigrid<T>::Impl::stationary(double bNorm, MultigridStats& stats) {
+    Level& L = levels[0];
+    const MultigridSettings& s = settings;
+    std::fill(L.x.begin(), L.x.end(), T(0));
+    L.r = L.b;
+    const bool adaptive = s.cycles == 0;
+    const int cap = adaptive ? s.maxCycles : s.cycles;
+    double rel = 1;
+    while (stats.cycles < cap && (!adaptive || rel > s.tolerance)) {
+        cycle(0, true);
+        ++stats.cycles;
+        // The next cycle (if any) and the adaptive test need the residual; the last fixed one not.
+        if (adaptive || stats.cycles < cap) residual(0, L.x, L.b, L.r);
+        if (adaptive) rel = norm(L.r) / bNorm;
+    }
+    stats.residual = adaptive ? rel : -1;
+    cgX = L.x;
+}
+
+// Conjugate gradients preconditioned by one V-cycle per iteration, from x = 0; the result in cgX.
+template <class T>
+void Multigrid<T>::Impl::conjugateGradients(double bNorm, MultigridStats& stats) {
+    const MultigridSettings& s = settings;
+    cgR = levels[0].b;
+    cgX.assign(cgR.size(), T(0));
+    const bool adaptive = s.cycles == 0;
+    const int cap = adaptive ? s.maxCycles : s.cycles;
+    double rz = 0, rel = 1;
+    while (stats.cycles < cap && (!adaptive || rel > s.tolerance)) {
+        precondition(cgR, cgZ);
+        ++stats.cycles;
+        const double rzNext = dot(cgR, cgZ);
+        if (stats.cycles == 1) cgP = cgZ;
+        else {
+            const T beta = T(rzNext / rz);
+            for (std::size_t q = 0; q < cgP.size(); ++q) cgP[q] = cgZ[q] + beta * cgP[q];
+        }
+        rz = rzNext;
+        product(0, cgP, nullptr, cgQ);  // q = W p
+        const double pq = dot(cgP, cgQ);
+        if (!(pq > 0)) break;  // W p = 0 only for p = 0: converged to rounding
+        const T alpha = T(rz / pq);
+        for (std::size_t q = 0; q < cgX.size(); ++q) cgX[q] += alpha * cgP[q], cgR[q] -= alpha * cgQ[q];
+        if (adaptive) rel = norm(cgR) / bNorm;
+    }
+    stats.residual = adaptive ? rel : -1;
+}
+
+template <class T>
+Multigrid<T>::Multigrid(const MultigridSettings& settings, int threads)
+    : impl_(std::make_unique<Impl>(settings, threads)) {}
+
+template <class T>
+Multigrid<T>::~Multigrid() = default;
+
+template <class T>
+void Multigrid<T>::prepareSystem(const Model& model, const Environment& env, const State& state, const StepInput& input,
+                                 bool compressionRule) {
+    Impl& m = *impl_;
+    if (m.modelId != model.id()) m.prepare(model);
+    m.buildFine(model, env, state, input, compressionRule);
+}
+
+template <class T>
+bool Multigrid<T>::solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
+                         bool compressionRule, Points& dv, MultigridStats& stats, double* forcesMs) {
+    const auto t0 = std::chrono::steady_clock::now();
+    prepareSystem(model, env, state, input, compressionRule);
+    if (forcesMs) *forcesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    Impl& m = *impl_;
+    m.coarseOperators(m.lastH2, m.lastCompression);
+
+    typename Impl::Level& L = m.levels[0];
+    const int n = L.A.n;
+    const double bNorm = m.norm(L.b);
+    stats = {};
+    if (bNorm > 0) {
+        if (m.settings.conjugateGradients) m.conjugateGradients(bNorm, stats);
+        else m.stationary(bNorm, stats);
+    } else {
+        m.cgX.assign(L.b.size(), T(0));
+        stats.residual = 0;
+    }
+    dv.resize(3, n);
+    double* out = dv.data();
+    for (int i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a)
+            out[3 * i + a] = L.pinned[i] ? double(m.pinDv[3 * i + a]) : double(m.cgX[3 * std::size_t(i) + a]);
+    return dv.allFinite();
+}
+
+template <class T>
+int Multigrid<T>::levels() const {
+    return int(impl_->levels.size());
+}
+
+template <class T>
+const BlockMatrix<T>& Multigrid<T>::matrix(int level) const {
+    return impl_->levels[level].A;
+}
+
+template <class T>
+Eigen::MatrixXd Multigrid<T>::prolongation(int level) const {
+    const Transfer& P = impl_->levels[level].P;
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(3 * P.fine, 3 * P.coarse);
+    for (int i = 0; i < P.fine; ++i)
+        for (int e = P.pStart[i]; e < P.pStart[i + 1]; ++e)
+            for (int a = 0; a < 3; ++a) M(3 * i + a, 3 * P.pCol[e] + a) = P.pW[e];
+    return M;
+}
+
+template <class T>
+Eigen::VectorXd Multigrid<T>::vcycle(const Eigen::VectorXd& b) {
+    Impl& m = *impl_;
+    m.coarseOperators(m.lastH2, m.lastCompression);
+    typename Impl::Level& L = m.levels[0];
+    for (int q = 0; q < 3 * L.A.n; ++q) L.b[q] = T(b[q]) * L.active[q / 3], L.x[q] = T(0);
+    L.r = L.b;
+    m.cycle(0, true);
+    Eigen::VectorXd x(3 * L.A.n);
+    for (int q = 0; q < 3 * L.A.n; ++q) x[q] = double(L.x[q]);
+    return x;
+}
+
+template <class T>
+std::string Multigrid<T>::describeHierarchy() const {
+    return impl_->coarseningName;
+}
+
+template struct BlockMatrix<float>;
+template struct BlockMatrix<double>;
+template class Multigrid<float>;
+template class Multigrid<double>;
+
+}  // namespace cloth

@@ -1,0 +1,98 @@
+#pragma once
+// Multigrid for the linearized backward Euler system that every implicit solver here reads
+// (system.h: W dv = b, J with eq. 17, W_ii with drag and implicit air, pinned particles
+// eliminated). One V-cycle:
+//   level l: nu1 damped block-Jacobi sweeps (the paper's eq. 11 sweep, damped by omega),
+//            r = b - W x, b_c = P^T r, coarse solve (recursively), x += P x_c, nu2 sweeps;
+//   coarsest: a dense Cholesky solve.
+// Coarse operators are Galerkin, W_c = P^T W P, rebuilt every step from a plan computed once
+// per model (which fine block, with which weight, lands in which coarse block).
+// Prolongation P (built once per model):
+//   grids     bilinear interpolation from a grid of about half the points per side over the same
+//             rectangle (any nx, ny: 33x22 and 40x27 work; 2^k+1 sizes nest exactly);
+//   meshes    smoothed aggregation: greedy aggregates over the strong springs, piecewise constant
+//             tentative P, one damped-Jacobi smoothing of it with the stiffness Laplacian.
+// Pinned particles are unknowns fixed at zero in the iteration (their prescribed dv is already in
+// their neighbours' b, as in the paper's step), so their rows are zero, the prolongation does not
+// reach them, and P^T W P is the Galerkin operator of the free particles.
+// Every loop runs over rows (or coarse rows) split across threads, and every sum over rows runs
+// in fixed chunks in a fixed order: the result is bit-identical for any thread count.
+
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cloth/solver.h"
+#include "cloth/thread_pool.h"
+
+namespace cloth {
+
+struct MultigridSettings {
+    int preSweeps = 2, postSweeps = 2;
+    double damping = 0.7;    // smoother: x += omega W_ii^-1 r
+    int cycles = 0;          // fixed number of V-cycles; 0 = until the relative residual < tolerance
+    double tolerance = 1e-3;
+    int maxCycles = 8;
+    enum class Coarsening { Auto, Geometric, Aggregation };
+    Coarsening coarsening = Coarsening::Auto;  // Auto: geometric on grids, aggregation otherwise
+    int coarsestParticles = 16;                // coarsen until a level has at most this many
+    // Coarse operators: Galerkin P^T W P, or (grids only) the same cloth re-discretized on the
+    // coarse grid: the same spring kernels at positions sampled from the finer level.
+    enum class CoarseOperator { Galerkin, Rediscretized };
+    CoarseOperator coarseOperator = CoarseOperator::Galerkin;
+    // Cycles as the preconditioner of conjugate gradients (one V-cycle per CG iteration) rather
+    // than as a stationary iteration. The V-cycle is symmetric (the same damped Jacobi before and
+    // after, pre_sweeps == post_sweeps), so CG applies.
+    bool conjugateGradients = true;
+};
+
+struct MultigridStats {
+    int cycles = 0;  // V-cycles applied (with conjugate gradients: CG iterations)
+    double residual = -1;  // relative residual |b - W dv| / |b| over free particles (-1: not computed)
+};
+
+// A sparse symmetric matrix of symmetric 3x3 blocks (6 numbers each: xx xy xz yy yz zz).
+// Block i < n is the diagonal of row i. The off-diagonal entries of row i are e in
+// [start[i], start[i + 1]), in column col[e], with their block at n + slot[e]: W_ij = W_ji, so the
+// two entries of a pair share one slot (on level 0, a slot is a spring).
+template <class T>
+struct BlockMatrix {
+    int n = 0, slots = 0;
+    std::vector<int> start, col, slot;
+    std::vector<T> blocks;  // 6 (n + slots)
+    int entries() const { return int(col.size()); }
+    const T* block(int e) const { return &blocks[6 * std::size_t(n + slot[e])]; }
+    Eigen::MatrixXd dense() const;  // for tests
+};
+
+template <class T>
+class Multigrid {
+public:
+    Multigrid(const MultigridSettings& settings, int threads);
+    ~Multigrid();
+
+    // Builds the system at `state` and solves it; dv gets the pinned particles' prescribed change.
+    // Returns false when the result is not finite. forcesMs: time of the system build.
+    bool solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
+               bool compressionRule, Points& dv, MultigridStats& stats, double* forcesMs = nullptr);
+
+    // The hierarchy's pieces, for tests and diagnostics (valid after solve or prepareSystem).
+    void prepareSystem(const Model& model, const Environment& env, const State& state, const StepInput& input,
+                       bool compressionRule);
+    int levels() const;
+    const BlockMatrix<T>& matrix(int level) const;
+    Eigen::MatrixXd prolongation(int level) const;  // dense P from level + 1 to level
+    // One V-cycle from x = 0 for the right-hand side b (3n, particle-major); returns x.
+    Eigen::VectorXd vcycle(const Eigen::VectorXd& b);
+    std::string describeHierarchy() const;  // "geometric 33x33 17x17 9x9 5x5 3x3"
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+extern template class Multigrid<float>;
+extern template class Multigrid<double>;
+
+}  // namespace cloth
