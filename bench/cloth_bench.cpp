@@ -77,6 +77,14 @@ BENCHMARK_CAPTURE(stepFlag, kangcho_fast_float, "kangcho:precision=float")->Appl
 BENCHMARK_CAPTURE(stepFlag, kangcho_gather_double, "kangcho:impl=gather")->Args({33, 1})->Args({129, 1})->Args({129, 2})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, kangcho_reference, "kangcho:impl=reference")->Args({33, 1})->Args({129, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, kangcho_4_iterations, "kangcho:iterations=4")->Args({33, 1})->Unit(benchmark::kMicrosecond);
+// Multigrid on the same system: one fixed V-cycle, two, and the adaptive default (until the
+// relative residual is under 1e-2, at most 8 cycles), next to the paper's step at every size.
+BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_double, "multigrid:cycles=1")->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_float, "multigrid:cycles=1,precision=float")->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_2_cycles_double, "multigrid:cycles=2")->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_double, "multigrid")->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_float, "multigrid:precision=float")->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, exact_multigrid, "exact:method=multigrid")->Args({33, 1})->Args({129, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, exact_cholesky, "exact")->Args({17, 1})->Args({33, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, cg_1e-6, "cg:tolerance=1e-6")->Args({33, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, explicit_1_substep, "explicit")->Args({33, 1})->Unit(benchmark::kMicrosecond);

@@ -79,11 +79,12 @@ private:
     std::vector<Eigen::Vector3d> pinLocal_;  // pinned particles in the carrier frame
     std::vector<std::uint8_t> pinnedFlags_;
     PoleMount mount_;
-    bool air_ = false, collision_ = false;
+    bool air_ = false, collision_ = false, implicitAir_ = true;
     cloth::AirParams airParams_;
     double thickness_ = 0;
     int substeps_ = 1;
     cloth::Points airForce_;
+    std::vector<cloth::Mat3> airJacobian_, airDamping_;
     FlagTimings timings_;
     long long steps_ = 0;
     int failures_ = 0;

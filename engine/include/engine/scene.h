@@ -69,6 +69,7 @@ struct SceneConfig {
         double drag = 0.05;          // linear drag rate, 1/s
         double thickness = 0.015;    // collision margin, m
         int substeps = 1;            // cloth steps per physics tick
+        bool implicitAir = true;     // air's velocity derivative in the implicit solve (air.h)
     } flag;
 
     cloth::AirParams air;

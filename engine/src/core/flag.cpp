@@ -42,6 +42,7 @@ Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& c
     if (!solver_) throw ConfigError(scene.file + ": flag.solver: " + error);
     env_.drag = scene.flag.drag;
     air_ = scene.subsystems & kAir;
+    implicitAir_ = scene.flag.implicitAir;
     collision_ = scene.subsystems & kCollision;
     airParams_ = scene.air;
     thickness_ = scene.flag.thickness;
@@ -101,8 +102,12 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
     if (air_) {
         const auto t0 = Clock::now();
         airForce_.setZero(3, model_.particleCount());
-        cloth::addAirForces(model_, state_, airParams_, airForce_);
+        cloth::addAirForces(model_, state_, airParams_, airForce_, implicitAir_ ? &airJacobian_ : nullptr);
         input.externalForce = &airForce_;
+        if (implicitAir_) {  // backward Euler in the air's velocity too (solvers that cannot, ignore it)
+            cloth::airDamping(airJacobian_, airDamping_);
+            input.damping = &airDamping_;
+        }
         timings_.air += Profiler::msSince(t0);
     }
     const cloth::StepResult r = solver_->step(model_, env_, state_, input);

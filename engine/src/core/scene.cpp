@@ -123,7 +123,7 @@ static SceneConfig fromJson(const nlohmann::json& root, const std::string& path)
 
     const JsonFields f = top.child("flag");
     f.allowOnly({"resolution", "width", "height", "mass", "stiffness", "solver", "drag",
-                 "thickness", "substeps"});
+                 "thickness", "substeps", "implicit_air"});
     if (f.has("resolution")) {
         const auto& r = f.at("resolution");
         if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer())
@@ -143,14 +143,20 @@ static SceneConfig fromJson(const nlohmann::json& root, const std::string& path)
     s.flag.stiffness.shear = k.number("shear", s.flag.stiffness.shear, 1e-3, 1e9);
     s.flag.stiffness.bend = k.number("bend", s.flag.stiffness.bend, 0, 1e9);
     const JsonFields solver = f.child("solver");
-    solver.allowOnly({"name", "iterations", "compression", "method", "tolerance",
-                      "max_iterations", "substeps", "threads", "precision", "strain_limit", "strain_passes"});
+    solver.allowOnly({"name", "iterations", "compression", "method", "tolerance", "max_iterations", "substeps",
+                      "threads", "precision", "strain_limit", "strain_passes", "cycles", "max_cycles",
+                      "pre_sweeps", "post_sweeps", "damping", "coarsening"});
     {
         cloth::SolverConfig& c = s.flag.solver;
-        c.name = solver.oneOf("name", c.name, {"kangcho", "exact", "cg", "explicit", "chebyshev", "desbrun"});
+        c.name = solver.oneOf("name", c.name, {"kangcho", "exact", "cg", "explicit", "chebyshev", "desbrun", "multigrid"});
+        if (c.name == "multigrid") c.tolerance = 1e-3;
         c.iterations = solver.integer("iterations", c.iterations, 0, 100000);
         c.compressionRule = solver.boolean("compression", c.compressionRule);
-        c.useCG = solver.oneOf("method", c.name == "cg" ? "cg" : "cholesky", {"cholesky", "cg"}) == "cg";
+        const std::string method =
+            solver.oneOf("method", c.name == "cg" ? "cg" : "cholesky", {"cholesky", "cg", "multigrid"});
+        c.method = method == "cg" ? cloth::SolverConfig::Method::CG
+                   : method == "multigrid" ? cloth::SolverConfig::Method::Multigrid
+                                           : cloth::SolverConfig::Method::Cholesky;
         c.tolerance = solver.number("tolerance", c.tolerance, 1e-16, 0.5);
         c.maxIterations = solver.integer("max_iterations", c.maxIterations, 1, 1000000);
         c.substeps = solver.integer("substeps", c.substeps, 1, 100000);
@@ -158,10 +164,20 @@ static SceneConfig fromJson(const nlohmann::json& root, const std::string& path)
         c.singlePrecision = solver.oneOf("precision", "double", {"double", "float"}) == "float";
         c.strainLimit = solver.number("strain_limit", c.strainLimit, 0, 10);
         c.strainLimitPasses = solver.integer("strain_passes", c.strainLimitPasses, 1, 1000);
+        c.cycles = solver.integer("cycles", c.cycles, 0, 1000);
+        c.maxCycles = solver.integer("max_cycles", c.maxCycles, 1, 1000);
+        c.preSweeps = solver.integer("pre_sweeps", c.preSweeps, 0, 100);
+        c.postSweeps = solver.integer("post_sweeps", c.postSweeps, 0, 100);
+        c.damping = solver.number("damping", c.damping, 0.01, 1.5);
+        const std::string coarsening = solver.oneOf("coarsening", "auto", {"auto", "geometric", "aggregation"});
+        c.coarsening = coarsening == "geometric" ? cloth::SolverConfig::Coarsening::Geometric
+                       : coarsening == "aggregation" ? cloth::SolverConfig::Coarsening::Aggregation
+                                                     : cloth::SolverConfig::Coarsening::Auto;
     }
     s.flag.drag = f.number("drag", s.flag.drag, 0, 1e3);
     s.flag.thickness = f.number("thickness", s.flag.thickness, 0, 1);
     s.flag.substeps = f.integer("substeps", s.flag.substeps, 1, 1000);
+    s.flag.implicitAir = f.boolean("implicit_air", s.flag.implicitAir);
 
     const JsonFields a = top.child("air");
     a.allowOnly({"wind", "density", "drag_coefficient", "lift_coefficient", "friction_coefficient"});
