@@ -7,6 +7,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <string>
+
 #include "cloth/diagnostics.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
@@ -27,7 +29,11 @@ cloth::HangingFlag flagOfSize(int n) {
 void stepFlag(benchmark::State& bm, const char* spec) {
     cloth::HangingFlag flag = flagOfSize(static_cast<int>(bm.range(0)));
     cloth::SolverConfig config;
-    cloth::parseSolverConfig(spec, config, nullptr);
+    std::string error;
+    if (!cloth::parseSolverConfig(spec, config, &error)) {
+        bm.SkipWithError(("solver spec '" + std::string(spec) + "': " + error).c_str());
+        return;
+    }
     if (bm.range(1) > 0) config.threads = static_cast<int>(bm.range(1));
     auto solver = cloth::makeSolver(config);
     cloth::Environment env;

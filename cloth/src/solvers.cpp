@@ -34,8 +34,9 @@ std::string SolverConfig::describe() const {
           << (impl == Impl::Reference ? ",impl=reference" : impl == Impl::Gather ? ",impl=gather" : "") << (singlePrecision ? ",precision=float" : "")
           << (threads != 1 ? ",threads=" + std::to_string(threads) : std::string());
     else if (name == "exact" || name == "cg")
-        s << ":method=" << (method == Method::CG ? "cg" : method == Method::Multigrid ? "multigrid" : "cholesky")
-          << ",tolerance=" << tolerance
+        s << ":"
+          << (name == "cg" ? "" : method == Method::CG ? "method=cg," : method == Method::Multigrid ? "method=multigrid," : "method=cholesky,")
+          << "tolerance=" << tolerance
           << (method != Method::Cholesky ? ",max_iterations=" + std::to_string(maxIterations) : std::string())
           << ",compression=" << (compressionRule ? "on" : "off");
     else if (name == "multigrid")

@@ -310,3 +310,18 @@ TEST(ImplicitAir, EveryImplicitSolverReadsTheSameDampedSystem) {
     plain->step(c.model, {}, state, inputOf(c));
     EXPECT_GT((plain->lastDv() - exact).norm() / exact.norm(), 1e-3);
 }
+
+TEST(SolverConfig, DescribeParsesBackToTheSameConfig) {
+    // The study labels rows with describe() and re-parses it: the text must mean the same solver.
+    for (const char* spec : {"kangcho", "kangcho:iterations=3,impl=gather,precision=float,threads=2",
+                             "exact", "exact:method=multigrid", "cg:tolerance=1e-6", "multigrid",
+                             "multigrid:cycles=2,damping=0.5,coarsening=aggregation,coarse=rediscretize,krylov=none",
+                             "multigrid:precision=float,threads=2,strain_limit=0.1", "chebyshev:iterations=4",
+                             "explicit:substeps=3", "desbrun"}) {
+        SolverConfig a, b;
+        std::string error;
+        ASSERT_TRUE(parseSolverConfig(spec, a, &error)) << spec << ": " << error;
+        ASSERT_TRUE(parseSolverConfig(a.describe(), b, &error)) << a.describe() << ": " << error;
+        EXPECT_EQ(a.describe(), b.describe()) << spec;
+    }
+}
