@@ -5,7 +5,7 @@
 //
 // Part 1 (error_vs_runtime.csv): every solver on the same cloth, masses and pins, per scene
 // (hanging flag; flag on a pole following the vehicle path of the demo's `drive` script), size,
-// stiffness and time step. Metrics (words as in ALGORITHM.md):
+// stiffness and time step. Metrics (words as in docs/algorithm.md):
 //   ms_per_step          median over repeats in this process
 //   solve_error          median |dv - dv_exact| / |dv_exact| over 24 states sampled along the run
 //                        (implicit solvers; dv_exact: sparse Cholesky up to 65x65, multigrid to a

@@ -27,7 +27,7 @@ Index firstNonFinite(const State& state);
 
 namespace cloth {
 
-// What "stable" means for a run (ALGORITHM.md): finite, positions bounded, strain bounded,
+// What "stable" means for a run (docs/algorithm.md): finite, positions bounded, strain bounded,
 // speeds bounded. Energy growth needs a history and is checked by the caller.
 struct StabilityLimits {
     Scalar maxStretch = 1.0;    // a spring at twice its rest length is a blow-up, not cloth
