@@ -33,8 +33,9 @@ int main(int argc, char** argv) {
     CLI::App app{"Steps a cloth scene headlessly and prints steps/s and diagnostics."};
     app.add_option("--scene", o.scene, "scene name")->check(CLI::IsMember({"hanging_flag"}));
     app.add_option("--solver", o.solver,
-                   "solver spec: kangcho[:iterations=N,compression=on|off], exact[:method=cg], "
-                   "cg[:tolerance=T,max_iterations=N], explicit[:substeps=N]");
+                   "solver spec, e.g. kangcho[:iterations=N], multigrid[:cycles=N|tolerance=T], "
+                   "exact[:method=cholesky|cg|multigrid], cg, chebyshev, desbrun, explicit[:substeps=N] "
+                   "(every key: cloth/include/cloth/solver.h)");
     app.add_option("--steps", o.steps, "steps per repeat")->check(CLI::Range(1, 10000000));
     app.add_option("--nx", o.nx, "particles across")->check(CLI::Range(2, 1024));
     app.add_option("--ny", o.ny, "particles down")->check(CLI::Range(2, 1024));
@@ -62,6 +63,8 @@ int main(int argc, char** argv) {
     cloth::Diagnostics diag;
     const char* unstable = nullptr;
     double maxSolveError = 0;
+    std::string details;
+    long long iterations = 0;
     for (int rep = 0; rep < o.repeats; ++rep) {
         cloth::HangingFlag flag = cloth::makeHangingFlag(desc);
         auto solver = cloth::makeSolver(config);
@@ -80,6 +83,7 @@ int main(int argc, char** argv) {
                             s, cloth::toString(r.status), r.badParticle);
                 return 1;
             }
+            if (rep == 0) iterations += r.iterations;
             if (measureError)
                 maxSolveError = std::max(maxSolveError,
                                          cloth::solveError(flag.model, env, before, input,
@@ -87,6 +91,7 @@ int main(int argc, char** argv) {
         }
         const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         stepsPerSecond.push_back(o.steps / sec);
+        details = solver->details();
         diag = cloth::measure(flag.model, env, flag.state);
         unstable = cloth::instability(diag, flag.state, desc.poleTop);
     }
@@ -95,6 +100,8 @@ int main(int argc, char** argv) {
     std::printf("scene            %s %dx%d, k=%g N/m, h=%g s, %d steps x %d repeats\n",
                 o.scene.c_str(), o.nx, o.ny, o.stiffness, o.dt, o.steps, o.repeats);
     std::printf("solver           %s\n", config.describe().c_str());
+    if (!details.empty()) std::printf("                 %s\n", details.c_str());
+    std::printf("iterations       %.2f per step (mean)\n", double(iterations) / o.steps);
     std::printf("steps/s          %.1f (median; %.2f us/step)\n", median, 1e6 / median);
     std::printf("stretch          max %.4f  p99 %.4f\n", diag.maxStretch, diag.p99Stretch);
     std::printf("compression      max %.4f  p99 %.4f\n", diag.maxCompression, diag.p99Compression);

@@ -145,7 +145,7 @@ static SceneConfig fromJson(const nlohmann::json& root, const std::string& path)
     const JsonFields solver = f.child("solver");
     solver.allowOnly({"name", "iterations", "compression", "method", "tolerance", "max_iterations", "substeps",
                       "threads", "precision", "strain_limit", "strain_passes", "cycles", "max_cycles",
-                      "pre_sweeps", "post_sweeps", "damping", "coarsening"});
+                      "pre_sweeps", "post_sweeps", "damping", "coarsening", "coarse", "krylov"});
     {
         cloth::SolverConfig& c = s.flag.solver;
         c.name = solver.oneOf("name", c.name, {"kangcho", "exact", "cg", "explicit", "chebyshev", "desbrun", "multigrid"});
@@ -173,6 +173,8 @@ static SceneConfig fromJson(const nlohmann::json& root, const std::string& path)
         c.coarsening = coarsening == "geometric" ? cloth::SolverConfig::Coarsening::Geometric
                        : coarsening == "aggregation" ? cloth::SolverConfig::Coarsening::Aggregation
                                                      : cloth::SolverConfig::Coarsening::Auto;
+        c.rediscretize = solver.oneOf("coarse", "galerkin", {"galerkin", "rediscretize"}) == "rediscretize";
+        c.krylov = solver.oneOf("krylov", "cg", {"cg", "none"}) == "cg";
     }
     s.flag.drag = f.number("drag", s.flag.drag, 0, 1e3);
     s.flag.thickness = f.number("thickness", s.flag.thickness, 0, 1);
