@@ -33,7 +33,7 @@ struct MultigridSettings {
     double damping = 0.7;    // smoother: x += omega W_ii^-1 r
     int cycles = 0;          // fixed number of V-cycles; 0 = until the relative residual < tolerance
     double tolerance = 1e-3;
-    int maxCycles = 8;
+    int maxCycles = 16;
     enum class Coarsening { Auto, Geometric, Aggregation };
     Coarsening coarsening = Coarsening::Auto;  // Auto: geometric on grids, aggregation otherwise
     int coarsestParticles = 16;                // coarsen until a level has at most this many

@@ -215,7 +215,7 @@ TEST(SolverConfig, MultigridParametersParseAndFloatCannotPromiseAnExactSolve) {
     std::string error;
     ASSERT_TRUE(parseSolverConfig("multigrid", c, &error)) << error;
     EXPECT_EQ(c.tolerance, 1e-3);
-    EXPECT_EQ(c.maxCycles, 8);
+    EXPECT_EQ(c.maxCycles, 16);
     EXPECT_EQ(c.cycles, 0);
     EXPECT_FALSE(parseSolverConfig("multigrid:precision=float,tolerance=1e-10", c, &error));
     EXPECT_NE(error.find("precision=float"), std::string::npos) << error;

@@ -27,7 +27,8 @@ def main():
     with open(os.path.join(d, "error_vs_runtime.csv"), newline="") as f:
         rows = list(csv.DictReader(f))
     families = sorted({r["family"] for r in rows})
-    colors = {f: plt.cm.tab10(i % 10) for i, f in enumerate(families)}
+    palette = plt.cm.tab10 if len(families) <= 10 else plt.cm.tab20
+    colors = {f: palette(i % palette.N) for i, f in enumerate(families)}
 
     # Error against run time: the configuration every solver ran at every size (k = 1e4, h = 1/240).
     # One row per scene, one column per size.

@@ -49,7 +49,7 @@ struct SolverConfig {
     Impl impl = Impl::Fast;
     Scalar rho = 0;                // chebyshev: Jacobi spectral radius; 0 = estimated each step
     int cycles = 0;                // multigrid: fixed V-cycles; 0 = adaptive (tolerance, maxCycles)
-    int maxCycles = 8;             // multigrid: cap of the adaptive mode
+    int maxCycles = 16;            // multigrid: cap of the adaptive mode
     int preSweeps = 2, postSweeps = 2;  // multigrid: smoothing sweeps around each coarse correction
     Scalar damping = 0.7;          // multigrid: smoother x += damping W_ii^-1 r
     enum class Coarsening { Auto, Geometric, Aggregation };
