@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "cloth/forces.h"
+#include "kernels.h"
 
 namespace cloth {
 
@@ -61,22 +61,9 @@ void FastKangCho<T>::solve(const Model& model, const Environment& env, const Sta
     pool_.run(springs_, [&](int begin, int end) {
         for (int s = begin; s < end; ++s) {
             const int i = si_[s], j = sj_[s];
-            const T dx = T(xs[3 * j] - xs[3 * i]), dy = T(xs[3 * j + 1] - xs[3 * i + 1]),
-                    dz = T(xs[3 * j + 2] - xs[3 * i + 2]);
-            const T L = std::sqrt(dx * dx + dy * dy + dz * dz);
-            if (L < T(kMinSpringLength)) {
-                ux_[s] = uy_[s] = uz_[s] = a_[s] = b_[s] = fm_[s] = T(0);
-                continue;
-            }
-            const T inv = T(1) / L;
-            T ratio = rest_[s] * inv;
-            if (compressionRule && ratio > T(1)) ratio = T(1);
-            ux_[s] = dx * inv;
-            uy_[s] = dy * inv;
-            uz_[s] = dz * inv;
-            a_[s] = k_[s] * (T(1) - ratio);
-            b_[s] = k_[s] * ratio;
-            fm_[s] = k_[s] * (L - rest_[s]);
+            const SpringTerms<T> t = springTerms(T(xs[3 * j] - xs[3 * i]), T(xs[3 * j + 1] - xs[3 * i + 1]),
+                                                 T(xs[3 * j + 2] - xs[3 * i + 2]), k_[s], rest_[s], compressionRule);
+            ux_[s] = t.ux, uy_[s] = t.uy, uz_[s] = t.uz, a_[s] = t.a, b_[s] = t.b, fm_[s] = t.fm;
         }
     });
 
