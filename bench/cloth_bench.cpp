@@ -30,11 +30,11 @@ void stepFlag(benchmark::State& bm, const char* spec) {
     cloth::HangingFlag flag = flagOfSize(static_cast<int>(bm.range(0)));
     cloth::SolverConfig config;
     std::string error;
-    if (!cloth::parseSolverConfig(spec, config, &error)) {
+    if (!cloth::parseSolverConfig(spec, config, &error) ||
+        (bm.range(1) > 0 && !cloth::setSolverParameter(config, "threads", std::to_string(bm.range(1)), &error))) {
         bm.SkipWithError(("solver spec '" + std::string(spec) + "': " + error).c_str());
         return;
     }
-    if (bm.range(1) > 0) config.threads = static_cast<int>(bm.range(1));
     auto solver = cloth::makeSolver(config);
     cloth::Environment env;
     cloth::StepInput input;

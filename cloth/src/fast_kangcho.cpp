@@ -53,8 +53,8 @@ void FastKangCho<T>::solve(const Model& model, const Environment& env, const Sta
     for (const Pin& p : input.pins) {
         if (p.particle < 0 || p.particle >= n_) continue;
         pinned_[p.particle] = 1;
-        for (int a = 0; a < 3; ++a)  // the velocity change that lands the particle on its target
-            pin_[3 * p.particle + a] = T((p.x[a] - xs[3 * p.particle + a]) / input.h - vs[3 * p.particle + a]);
+        const Vec3 dv = pinVelocityChange(p, state.x.col(p.particle), state.v.col(p.particle), input.h);
+        for (int a = 0; a < 3; ++a) pin_[3 * p.particle + a] = T(dv[a]);
     }
 
     // Springs: u, the Jacobian's a and b (eqs. 16, 17) and the force magnitude (eq. 15).
@@ -103,23 +103,16 @@ void FastKangCho<T>::solve(const Model& model, const Environment& env, const Sta
                 jv[2] += as * q[2] + uq * uz;
             }
             for (int a = 0; a < 3; ++a) r[a] = h * f[a] + h2 * jv[a];
-            // W = m (1 + h c) I + h^2 (A I + B); inverse by cofactors.
+            // W = m (1 + h c) I + h^2 (A I + B) (+ h C_i), as 6 numbers, and its inverse.
             const T diag = m * (T(1) + h * c) + h2 * A;
-            T wxx = diag + h2 * Bxx, wxy = h2 * Bxy, wxz = h2 * Bxz;
-            T wyy = diag + h2 * Byy, wyz = h2 * Byz, wzz = diag + h2 * Bzz;
+            T W[6] = {diag + h2 * Bxx, h2 * Bxy, h2 * Bxz, diag + h2 * Byy, h2 * Byz, diag + h2 * Bzz};
             if (damping) {  // + h C_i (implicit external force)
                 const Mat3& C = (*damping)[i];
-                wxx += h * T(C(0, 0)), wxy += h * T(C(0, 1)), wxz += h * T(C(0, 2));
-                wyy += h * T(C(1, 1)), wyz += h * T(C(1, 2)), wzz += h * T(C(2, 2));
+                W[0] += h * T(C(0, 0)), W[1] += h * T(C(0, 1)), W[2] += h * T(C(0, 2));
+                W[3] += h * T(C(1, 1)), W[4] += h * T(C(1, 2)), W[5] += h * T(C(2, 2));
             }
-            const T cxx = wyy * wzz - wyz * wyz, cxy = wxz * wyz - wxy * wzz, cxz = wxy * wyz - wxz * wyy;
-            const T cyy = wxx * wzz - wxz * wxz, cyz = wxy * wxz - wxx * wyz, czz = wxx * wyy - wxy * wxy;
-            const T invDet = T(1) / (wxx * cxx + wxy * cxy + wxz * cxz);
-            w[0] = cxx * invDet, w[1] = cxy * invDet, w[2] = cxz * invDet;
-            w[3] = cyy * invDet, w[4] = cyz * invDet, w[5] = czz * invDet;
-            d[0] = w[0] * r[0] + w[1] * r[1] + w[2] * r[2];
-            d[1] = w[1] * r[0] + w[3] * r[1] + w[4] * r[2];
-            d[2] = w[2] * r[0] + w[4] * r[1] + w[5] * r[2];
+            symmetricInverse(W, w);
+            symmetricTimes(w, r, d);
         }
     });
     if (forcesMs) *forcesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -145,11 +138,8 @@ void FastKangCho<T>::solve(const Model& model, const Environment& env, const Sta
                     s2 += a_[s] * q[2] + uq * uz_[s];
                 }
                 const T* r = &rhs_[3 * i];
-                const T* w = &winv_[6 * i];
-                const T y0 = r[0] + h2 * s0, y1 = r[1] + h2 * s1, y2 = r[2] + h2 * s2;
-                out[0] = w[0] * y0 + w[1] * y1 + w[2] * y2;
-                out[1] = w[1] * y0 + w[3] * y1 + w[4] * y2;
-                out[2] = w[2] * y0 + w[4] * y1 + w[5] * y2;
+                const T y[3] = {r[0] + h2 * s0, r[1] + h2 * s1, r[2] + h2 * s2};
+                symmetricTimes(&winv_[6 * i], y, out);
             }
         });
         std::swap(dvA_, dvB_);

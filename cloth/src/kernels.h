@@ -1,53 +1,49 @@
 #pragma once
-// Formulas that every fast path of the implicit step shares (the reference path in system.cpp
-// writes them with Eigen types; the tests compare the two). Plain functions over scalars.
+// Formulas that every path of the implicit step shares (the paper's step in paper_step.cpp, the
+// gather and stencil layouts of kangcho, multigrid): symmetric 3x3 blocks and the pin velocity
+// change. The spring terms (eqs. 15-17) are in cloth/forces.h. Plain inline functions.
 
 #include <cmath>
 
 #include "cloth/forces.h"
+#include "cloth/system.h"
 
 namespace cloth {
-
-// Eqs. 15-17 for one spring with d = x_j - x_i: u = d / L, J = a I + b u u^T, force on i fm u.
-//   a = k (1 - l0/L), b = k l0/L (eq. 16); eq. 17 clamps l0/L to 1 under compression.
-template <class T>
-struct SpringTerms {
-    T ux, uy, uz, a, b, fm;
-};
-
-template <class T>
-inline SpringTerms<T> springTerms(T dx, T dy, T dz, T k, T rest, bool compressionRule) {
-    const T L = std::sqrt(dx * dx + dy * dy + dz * dz);
-    if (L < T(kMinSpringLength)) return {T(0), T(0), T(0), T(0), T(0), T(0)};
-    const T inv = T(1) / L;
-    T ratio = rest * inv;
-    if (compressionRule && ratio > T(1)) ratio = T(1);
-    return {dx * inv, dy * inv, dz * inv, k * (T(1) - ratio), k * ratio, k * (L - rest)};
-}
 
 // Symmetric 3x3 matrices as 6 numbers: xx xy xz yy yz zz.
 // y = S x
 template <class T>
-inline void symmetricTimes(const T* s, const T* x, T* y) {
+[[gnu::always_inline]] inline void symmetricTimes(const T* s, const T* x, T* y) {
     y[0] = s[0] * x[0] + s[1] * x[1] + s[2] * x[2];
     y[1] = s[1] * x[0] + s[3] * x[1] + s[4] * x[2];
     y[2] = s[2] * x[0] + s[4] * x[1] + s[5] * x[2];
 }
 
 // inv = S^-1 by cofactors; a singular S (zero determinant, as for a row with no unknown) gives
-// inv = 0 and returns false.
+// inv = 0 and returns false. Branch-free, so that loops over particles vectorize.
 template <class T>
-inline bool symmetricInverse(const T* s, T* inv) {
+[[gnu::always_inline]] inline bool symmetricInverse(const T* s, T* inv) {
     const T cxx = s[3] * s[5] - s[4] * s[4], cxy = s[2] * s[4] - s[1] * s[5], cxz = s[1] * s[4] - s[2] * s[3];
     const T cyy = s[0] * s[5] - s[2] * s[2], cyz = s[1] * s[2] - s[0] * s[4], czz = s[0] * s[3] - s[1] * s[1];
     const T det = s[0] * cxx + s[1] * cxy + s[2] * cxz;
-    if (!(det != T(0))) {
-        for (int k = 0; k < 6; ++k) inv[k] = T(0);
-        return false;
-    }
-    const T id = T(1) / det;
+    const bool regular = det != T(0);
+    const T id = regular ? T(1) / (regular ? det : T(1)) : T(0);
     inv[0] = cxx * id, inv[1] = cxy * id, inv[2] = cxz * id, inv[3] = cyy * id, inv[4] = cyz * id, inv[5] = czz * id;
-    return true;
+    return regular;
 }
+
+// The same for a Mat3 (its upper triangle is read).
+inline Mat3 symmetricInverse(const Mat3& S) {
+    const Scalar s[6] = {S(0, 0), S(0, 1), S(0, 2), S(1, 1), S(1, 2), S(2, 2)};
+    Scalar inv[6];
+    symmetricInverse(s, inv);
+    Mat3 out;
+    out << inv[0], inv[1], inv[2], inv[1], inv[3], inv[4], inv[2], inv[4], inv[5];
+    return out;
+}
+
+// The velocity change that carries a pinned particle from x (velocity v) onto its target in one
+// step of length h: dv = (target - x) / h - v. Every implicit path prescribes it.
+inline Vec3 pinVelocityChange(const Pin& pin, const Vec3& x, const Vec3& v, Scalar h) { return (pin.x - x) / h - v; }
 
 }  // namespace cloth

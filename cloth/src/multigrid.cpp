@@ -515,8 +515,8 @@ void Multigrid<T>::Impl::buildFine(const Model& model, const Environment& env, c
     for (const Pin& p : input.pins) {
         if (p.particle < 0 || p.particle >= n) continue;
         L.pinned[p.particle] = 1;
-        for (int a = 0; a < 3; ++a)  // the velocity change that lands the particle on its target
-            pinDv[3 * p.particle + a] = T((p.x[a] - xs[3 * p.particle + a]) / input.h - vs[3 * p.particle + a]);
+        const Vec3 dv = pinVelocityChange(p, state.x.col(p.particle), state.v.col(p.particle), input.h);
+        for (int a = 0; a < 3; ++a) pinDv[3 * p.particle + a] = T(dv[a]);
     }
     const auto& mass = model.masses();
     for (int i = 0; i < n; ++i) {

@@ -28,24 +28,7 @@
 
 namespace cloth {
 
-struct MultigridSettings {
-    int preSweeps = 2, postSweeps = 2;
-    double damping = 0.7;    // smoother: x += omega W_ii^-1 r
-    int cycles = 0;          // fixed number of V-cycles; 0 = until the relative residual < tolerance
-    double tolerance = 1e-3;
-    int maxCycles = 16;
-    enum class Coarsening { Auto, Geometric, Aggregation };
-    Coarsening coarsening = Coarsening::Auto;  // Auto: geometric on grids, aggregation otherwise
-    int coarsestParticles = 16;                // coarsen until a level has at most this many
-    // Coarse operators: Galerkin P^T W P, or (grids only) the same cloth re-discretized on the
-    // coarse grid: the same spring kernels at positions sampled from the finer level.
-    enum class CoarseOperator { Galerkin, Rediscretized };
-    CoarseOperator coarseOperator = CoarseOperator::Galerkin;
-    // Cycles as the preconditioner of conjugate gradients (one V-cycle per CG iteration) rather
-    // than as a stationary iteration. The V-cycle is symmetric (the same damped Jacobi before and
-    // after, pre_sweeps == post_sweeps), so CG applies.
-    bool conjugateGradients = true;
-};
+// MultigridSettings: cloth/solver.h.
 
 struct MultigridStats {
     int cycles = 0;  // V-cycles applied (with conjugate gradients: CG iterations)

@@ -7,7 +7,7 @@
 #include <set>
 #include <utility>
 
-#include "cloth/forces.h"
+#include "kernels.h"
 
 // Kernels are cloned for x86-64-v3 (AVX2, FMA) and the baseline; the dynamic loader picks one
 // per CPU. Clang and other targets get the baseline only.
@@ -66,20 +66,10 @@ CLOTH_SIMD_CLONES void springKernel(const T* __restrict x, const T* __restrict y
                                     const T* __restrict k, const T* __restrict rest, bool compressionRule,
                                     T* __restrict ux, T* __restrict uy, T* __restrict uz, T* __restrict a,
                                     T* __restrict b, T* __restrict fm, int begin, int end) {
-    const T minLength = T(kMinSpringLength);
     for (int p = begin; p < end; ++p) {
-        const T dx = x[p + d] - x[p], dy = y[p + d] - y[p], dz = z[p + d] - z[p];
-        const T L = std::sqrt(dx * dx + dy * dy + dz * dz);
-        const bool live = L >= minLength;
-        const T inv = live ? T(1) / (live ? L : T(1)) : T(0);
-        const T r = rest[p] * inv;
-        const T ratio = compressionRule ? (r > T(1) ? T(1) : r) : r;
-        ux[p] = dx * inv;
-        uy[p] = dy * inv;
-        uz[p] = dz * inv;
-        a[p] = live ? k[p] * (T(1) - ratio) : T(0);
-        b[p] = k[p] * ratio;
-        fm[p] = live ? k[p] * (L - rest[p]) : T(0);
+        const SpringTerms<T> t =
+            springTerms(x[p + d] - x[p], y[p + d] - y[p], z[p + d] - z[p], k[p], rest[p], compressionRule);
+        ux[p] = t.ux, uy[p] = t.uy, uz[p] = t.uz, a[p] = t.a, b[p] = t.b, fm[p] = t.fm;
     }
 }
 
@@ -176,15 +166,13 @@ CLOTH_IVDEP
             const T ey = jy[t] - (kxy * vx[t] + kyy * vy[t] + kyz * vz[t]);
             const T ez = jz[t] - (kxz * vx[t] + kyz * vy[t] + kzz * vz[t]);
             const T r0 = h * fx[t] + h2 * ex, r1 = h * fy[t] + h2 * ey, r2 = h * fz[t] + h2 * ez;
-            // W = m (1 + h c) I + h C + h^2 (A I + B); inverse by cofactors.
+            // W = m (1 + h c) I + h C + h^2 (A I + B), as 6 numbers, and its inverse.
             const T diag = mass[t] * (T(1) + h * c);
-            const T wxx = diag + c0[t] + h2 * kxx, wxy = c1[t] + h2 * kxy, wxz = c2[t] + h2 * kxz;
-            const T wyy = diag + c3[t] + h2 * kyy, wyz = c4[t] + h2 * kyz, wzz = diag + c5[t] + h2 * kzz;
-            const T cxx = wyy * wzz - wyz * wyz, cxy = wxz * wyz - wxy * wzz, cxz = wxy * wyz - wxz * wyy;
-            const T cyy = wxx * wzz - wxz * wxz, cyz = wxy * wxz - wxx * wyz, czz = wxx * wyy - wxy * wxy;
-            const T invDet = T(1) / (wxx * cxx + wxy * cxy + wxz * cxz);
-            const T i0 = cxx * invDet, i1 = cxy * invDet, i2 = cxz * invDet;
-            const T i3 = cyy * invDet, i4 = cyz * invDet, i5 = czz * invDet;
+            const T W[6] = {diag + c0[t] + h2 * kxx, c1[t] + h2 * kxy, c2[t] + h2 * kxz,
+                            diag + c3[t] + h2 * kyy, c4[t] + h2 * kyz, diag + c5[t] + h2 * kzz};
+            T inv[6];
+            symmetricInverse(W, inv);
+            const T i0 = inv[0], i1 = inv[1], i2 = inv[2], i3 = inv[3], i4 = inv[4], i5 = inv[5];
             rx[t] = r0, ry[t] = r1, rz[t] = r2;
             w0[t] = i0, w1[t] = i1, w2[t] = i2, w3[t] = i3, w4[t] = i4, w5[t] = i5;
             const bool free = pinned[t] == T(0);
@@ -350,8 +338,9 @@ void StencilKangCho<T>::solve(const Model& model, const Environment& env, const 
         const int i = int(p.particle);
         pinned_.at(pad)[i] = T(1);
         pinnedList_.push_back(i);
-        for (int a = 0; a < 3; ++a) {  // the velocity change that lands the particle on its target
-            pin_[a].at(pad)[i] = T((p.x[a] - xs[3 * i + a]) / input.h - vs[3 * i + a]);
+        const Vec3 dv = pinVelocityChange(p, state.x.col(i), state.v.col(i), input.h);
+        for (int a = 0; a < 3; ++a) {
+            pin_[a].at(pad)[i] = T(dv[a]);
             w_[a].at(pad)[i] = v_[a].at(pad)[i] + pin_[a].at(pad)[i];
         }
     }

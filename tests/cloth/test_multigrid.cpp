@@ -214,9 +214,9 @@ TEST(SolverConfig, MultigridParametersParseAndFloatCannotPromiseAnExactSolve) {
     SolverConfig c;
     std::string error;
     ASSERT_TRUE(parseSolverConfig("multigrid", c, &error)) << error;
-    EXPECT_EQ(c.tolerance, 1e-3);
-    EXPECT_EQ(c.maxCycles, 16);
-    EXPECT_EQ(c.cycles, 0);
+    EXPECT_EQ(c.get<MultigridSettings>().tolerance, 1e-3);
+    EXPECT_EQ(c.get<MultigridSettings>().maxCycles, 16);
+    EXPECT_EQ(c.get<MultigridSettings>().cycles, 0);
     EXPECT_FALSE(parseSolverConfig("multigrid:precision=float,tolerance=1e-10", c, &error));
     EXPECT_NE(error.find("precision=float"), std::string::npos) << error;
     EXPECT_FALSE(parseSolverConfig("multigrid:pre_sweeps=0,post_sweeps=0", c, &error));

@@ -32,7 +32,21 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     const SceneConfig demo = loadScene(kScenes + "flag_vehicle.json");
     EXPECT_EQ(demo.flag.nx, 33);
     EXPECT_EQ(demo.flag.solver.name, "kangcho");
-    EXPECT_EQ(demo.flag.solver.iterations, 1);
+    EXPECT_EQ(demo.flag.solver.get<cloth::KangChoSettings>().iterations, 1);
+}
+
+TEST(Scene, SolverKeysFollowTheSolverTable) {
+    // The scene parser reads the same keys, with the same ranges, as the --solver string: keys the
+    // old scene parser lacked (impl, rho) are read, and keys of another solver are refused.
+    const std::string base = R"({"subsystems": ["cloth"], "flag": {"solver": )";
+    const SceneConfig a = parseScene(base + R"({"name": "kangcho", "impl": "reference", "iterations": 3}}})", "a.json");
+    EXPECT_EQ(a.flag.solver.get<cloth::KangChoSettings>().impl, cloth::KangChoSettings::Impl::Reference);
+    EXPECT_EQ(a.flag.solver.get<cloth::KangChoSettings>().iterations, 3);
+    const SceneConfig b = parseScene(base + R"({"name": "chebyshev", "rho": 0.5, "compression": false}}})", "b.json");
+    EXPECT_EQ(b.flag.solver.get<cloth::ChebyshevSettings>().rho, 0.5);
+    EXPECT_FALSE(b.flag.solver.compressionRule);
+    const SceneConfig c = parseScene(base + R"({"name": "multigrid"}}})", "c.json");
+    EXPECT_EQ(c.flag.solver.describe(), "multigrid:cycles=0,compression=on");
 }
 
 TEST(Scene, MalformedScenesNameFileFieldAndValue) {
@@ -52,7 +66,10 @@ TEST(Scene, MalformedScenesNameFileFieldAndValue) {
         {"{" + base + R"(, "flag": {"resolution": [1, 33]}})", "flag.resolution = [1,33]"},
         {"{" + base + R"(, "flag": {"resolution": [100000, 100000]}})", "flag.resolution = [100000,100000]"},
         {"{" + base + R"(, "flag": {"resolution": 33}})", "flag.resolution = 33"},
-        {"{" + base + R"(, "flag": {"solver": {"name": "magic"}}})", "flag.solver.name = \"magic\": must be one of"},
+        {"{" + base + R"(, "flag": {"solver": {"name": "magic"}}})", "flag.solver.name = \"magic\": unknown solver 'magic'"},
+        {"{" + base + R"(, "flag": {"solver": {"name": "exact", "impl": "fast"}}})", "flag.solver.impl = \"fast\": solver 'exact' has no parameter 'impl'"},
+        {"{" + base + R"(, "flag": {"solver": {"name": "multigrid", "damping": 2}}})", "flag.solver.damping = 2: solver 'multigrid' parameter damping has a bad value '2' (allowed: (0, 1.5])"},
+        {"{" + base + R"(, "flag": {"solver": {"threads": [2]}}})", "flag.solver.threads = [2]: must be a number"},
         {"{" + base + R"(, "flag": {"solver": {"iterations": -1}}})", "flag.solver.iterations = -1"},
         {"{" + base + R"(, "timing": {"physics_hz": 0}})", "timing.physics_hz = 0"},
         {"{" + base + R"(, "timing": {"fps": -60}})", "timing.fps = -60"},

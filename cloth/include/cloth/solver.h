@@ -1,71 +1,111 @@
 #pragma once
-// Solvers behind one small interface, chosen by name with parameters:
-//   kangcho   the paper: Jacobi iterations of the linearized backward Euler system
-//             (iterations=1 by default, any k >= 0; compression=on|off for eq. 17;
-//             threads=N, precision=double|float, impl=fast|gather|reference)
-//   exact     the same system solved to a relative residual of 1e-10 (sparse Cholesky);
-//             method=cg solves it with conjugate gradients (tolerance=, max_iterations=),
-//             method=multigrid with multigrid V-cycles (O(n) per cycle; tolerance=,
-//             max_iterations= caps the cycles)
-//   cg        alias of exact with method=cg
-//   multigrid V-cycles on the same system (multigrid.h): cycles=N (0 = adaptive: until the
-//             relative residual is under tolerance=, at most max_cycles=), pre_sweeps=,
-//             post_sweeps=, damping= (smoother), coarsening=auto|geometric|aggregation,
-//             coarse=galerkin|rediscretize, krylov=cg|none (V-cycles as CG's preconditioner,
-//             the default, or as the iteration itself),
-//             threads=, precision=
-//   explicit  symplectic Euler with substeps=N
-//   desbrun   Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once
-//   chebyshev Jacobi with Chebyshev semi-iterative acceleration (Wang 2015), iterations=N,
-//             rho= (spectral radius estimate; 0 = estimate from the system each step)
-// Any solver takes strain_limit=S (e.g. 0.1: springs at most 10% over rest length after the step,
-// Provot 1995) and strain_passes=N.
+// Solvers behind one small interface, chosen by name with parameters: "name[:key=value,...]".
+// Every solver kind has its own settings struct and a table of its keys (name, type, range,
+// default, one line of doc; cloth/src/solver_table.h). The string parser, the scene parser of the
+// engine, validation, describe(), the --help text and the README's solver table all come from
+// that table: `solverHelp()` prints it. The kinds:
+//   kangcho    the paper: Jacobi iterations of the linearized backward Euler system
+//   exact      the same system solved to a tolerance (sparse Cholesky, CG or multigrid)
+//   cg         exact with method=cg
+//   multigrid  V-cycles on the same system, as CG's preconditioner or alone
+//   chebyshev  Jacobi with Chebyshev semi-iterative acceleration (Wang 2015)
+//   desbrun    Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once
+//   explicit   symplectic Euler with substeps
+// Every kind takes strain_limit= and strain_passes= (Provot's anti-stretch pass after the step),
+// and every implicit kind compression= (eq. 17).
 // A step never throws and never hands back a non-finite state: on failure the state is left as
 // it was before the step and the status says why.
 
 #include <memory>
 #include <string>
 #include <string_view>
+#include <variant>
 
 #include "cloth/system.h"
 
 namespace cloth {
 
-struct SolverConfig {
-    std::string name = "kangcho";
-    int iterations = 1;            // kangcho: Jacobi iterations after dv(0)
-    bool compressionRule = true;   // eq. 17 in the Jacobian
-    enum class Method { Cholesky, CG, Multigrid };
-    Method method = Method::Cholesky;  // exact: how the system is solved
-    Scalar tolerance = 1e-10;      // exact/cg: relative residual (multigrid: 1e-3 by default)
-    int maxIterations = 10000;     // cg
-    int substeps = 1;              // explicit
-    int threads = 1;               // kangcho: worker threads (results identical for any count)
-    bool singlePrecision = false;  // kangcho: float arithmetic in the step (state stays double)
-    // kangcho implementation: fast = the stencil layout when the springs form a few constant index
-    // offsets (grids; stencil_kangcho.h), else the per-particle gather (fast_kangcho.h); gather =
-    // always the latter; reference = the straightforward per-spring 3x3 assembly.
+struct KangChoSettings {
+    int iterations = 1;  // Jacobi sweeps after dv(0); 1 is the paper's step (eq. 14)
+    // fast = the stencil layout when the springs form a few constant index offsets (grids), else
+    // the per-particle gather; gather = always the latter; reference = the paper's step written
+    // equation by equation (paper_step.cpp).
     enum class Impl { Fast, Gather, Reference };
     Impl impl = Impl::Fast;
-    Scalar rho = 0;                // chebyshev: Jacobi spectral radius; 0 = estimated each step
-    int cycles = 0;                // multigrid: fixed V-cycles; 0 = adaptive (tolerance, maxCycles)
-    int maxCycles = 16;            // multigrid: cap of the adaptive mode
-    int preSweeps = 2, postSweeps = 2;  // multigrid: smoothing sweeps around each coarse correction
-    Scalar damping = 0.7;          // multigrid: smoother x += damping W_ii^-1 r
+    int threads = 1;               // worker threads (results identical for any count)
+    bool singlePrecision = false;  // float arithmetic in the step (the state stays double)
+};
+
+struct ExactSettings {
+    enum class Method { Cholesky, CG, Multigrid };
+    Method method = Method::Cholesky;
+    double tolerance = 1e-10;  // relative residual the solve must reach, or the step fails
+    int maxIterations = 10000; // cg: iterations; multigrid: V-cycles
+};
+
+struct MultigridSettings {
+    int cycles = 0;            // fixed number of V-cycles; 0 = until the relative residual < tolerance
+    double tolerance = 1e-3;
+    int maxCycles = 16;        // cap of the adaptive mode
+    int preSweeps = 2, postSweeps = 2;  // smoothing sweeps around each coarse correction
+    double damping = 0.7;      // smoother: x += damping W_ii^-1 r
     enum class Coarsening { Auto, Geometric, Aggregation };
-    Coarsening coarsening = Coarsening::Auto;  // multigrid: auto = geometric on grids, else aggregation
-    bool rediscretize = false;     // multigrid: coarse operators from a coarse cloth, not Galerkin
-    bool krylov = true;            // multigrid: V-cycles precondition CG (krylov=cg) or iterate alone (none)
-    Scalar strainLimit = 0;        // any solver: Provot anti-stretch pass, max stretch (0 = off)
+    Coarsening coarsening = Coarsening::Auto;  // Auto: geometric on grids, aggregation otherwise
+    // Coarse operators: Galerkin P^T W P, or (grids only) the same cloth re-discretized on the
+    // coarse grid: the same spring kernels at positions sampled from the finer level.
+    enum class CoarseOperator { Galerkin, Rediscretized };
+    CoarseOperator coarseOperator = CoarseOperator::Galerkin;
+    // Cycles as the preconditioner of conjugate gradients (one V-cycle per CG iteration) rather
+    // than as a stationary iteration. The V-cycle is symmetric (the same damped Jacobi before and
+    // after), so CG applies.
+    bool conjugateGradients = true;
+    int threads = 1;
+    bool singlePrecision = false;
+    int coarsestParticles = 16;  // coarsen until a level has at most this many (not a key)
+};
+
+struct ChebyshevSettings {
+    int iterations = 1;
+    double rho = 0;  // Jacobi spectral radius; 0 = estimated from the system each step
+};
+
+struct DesbrunSettings {};
+
+struct ExplicitSettings {
+    int substeps = 1;
+};
+
+struct SolverConfig {
+    std::string name = "kangcho";
+    bool compressionRule = true;  // implicit kinds: eq. 17 in the Jacobian
+    double strainLimit = 0;       // any kind: Provot anti-stretch pass, max stretch (0 = off)
     int strainLimitPasses = 4;
-    std::string describe() const;  // "kangcho:iterations=1,compression=on"
+    std::variant<KangChoSettings, ExactSettings, MultigridSettings, ChebyshevSettings, DesbrunSettings,
+                 ExplicitSettings>
+        settings;
+    // The settings of this config's kind (std::bad_variant_access for another kind).
+    template <class S>
+    const S& get() const { return std::get<S>(settings); }
+    template <class S>
+    S& get() { return std::get<S>(settings); }
+    // "name:key=value,..." with the keys that differ from the kind's defaults (and those the
+    // table always shows); parseSolverConfig reads it back to the same config.
+    std::string describe() const;
 };
 
 // Parses "name[:key=value[,key=value...]]". Returns false and sets *error (naming the key and
 // value) on an unknown name, unknown key or bad value.
 bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* error);
+// The defaults of a kind (false and *error for an unknown name).
+bool defaultSolverConfig(std::string_view name, SolverConfig& out, std::string* error);
+// Sets one key from its text ("2", "1e-3", "on", "float"), with the same rules as the parser;
+// on failure `config` is unchanged and *error names the key, the value and the allowed range.
+bool setSolverParameter(SolverConfig& config, std::string_view key, std::string_view value, std::string* error);
 // Checks a config's ranges; returns an empty string when valid, else what is wrong.
 std::string validate(const SolverConfig& config);
+// Every kind with its keys: plain text for --help, or a Markdown table for the README.
+std::string solverHelp();
+std::string solverTableMarkdown();
 
 enum class StepStatus { Ok, NonFinite, SolverFailed };
 const char* toString(StepStatus status);
@@ -107,9 +147,15 @@ protected:
 // Returns null and sets *error for an invalid config.
 std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* error = nullptr);
 
-// The exact solution of the system (Cholesky, refined to a relative residual <= 1e-10).
-// Returns false when the factorization fails.
-bool solveExact(const Model& model, const LinearSystem& sys, Points& dv, Scalar* residual = nullptr);
+// The exact solution of the system: sparse Cholesky with iterative refinement. Returns false when
+// the factorization fails or the relative residual stays over `tolerance`.
+bool solveExact(const Model& model, const LinearSystem& sys, Points& dv, Scalar* residual = nullptr,
+                Scalar tolerance = 1e-10);
+
+// The paper's step (paper_step.cpp, kangcho's impl=reference): builds the system at `state`,
+// then dv(0) and `iterations` Jacobi sweeps into dv.
+void paperStep(const Model& model, const Environment& env, const State& state, const StepInput& input,
+               bool compressionRule, int iterations, LinearSystem& sys, Points& dv);
 
 // One Jacobi sweep: dvNext_i = W_ii^-1 (b_i + h^2 sum_j J_ij dv_j); pinned stay prescribed.
 void jacobiSweep(const Model& model, const LinearSystem& sys, const Points& dv, Points& dvNext);

@@ -7,7 +7,6 @@
 // Rows of pinned particles become dv_p = prescribed; their columns move to the right-hand side.
 
 #include <Eigen/SparseCore>
-#include <span>
 #include <vector>
 
 #include "cloth/model.h"
@@ -29,7 +28,8 @@ struct Pin {
 
 struct StepInput {
     Scalar h = Scalar(1) / 60;
-    std::span<const Pin> pins;
+    // Owned, not a view: `input.pins = pinColumn(model)` must not leave a dangling reference.
+    std::vector<Pin> pins;
     const Points* externalForce = nullptr;  // per-particle external forces (air), or null
     // Per-particle C_i = -df_i/dv_i of the external force (symmetric positive semi-definite;
     // air.h's airDamping), or null. Implicit solvers add h C_i to W_ii, which integrates the

@@ -37,6 +37,7 @@ public:
     // A nested object (empty object when absent).
     JsonFields child(const char* key) const;
     const nlohmann::json& at(const char* key) const { return obj_.at(key); }
+    const nlohmann::json& object() const { return obj_; }
     std::string pathOf(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
     const std::string& file() const { return file_; }
 

@@ -143,38 +143,24 @@ static SceneConfig fromJson(const nlohmann::json& root, const std::string& path)
     s.flag.stiffness.shear = k.number("shear", s.flag.stiffness.shear, 1e-3, 1e9);
     s.flag.stiffness.bend = k.number("bend", s.flag.stiffness.bend, 0, 1e9);
     const JsonFields solver = f.child("solver");
-    solver.allowOnly({"name", "iterations", "compression", "method", "tolerance", "max_iterations", "substeps",
-                      "threads", "precision", "strain_limit", "strain_passes", "cycles", "max_cycles",
-                      "pre_sweeps", "post_sweeps", "damping", "coarsening", "coarse", "krylov"});
     {
-        cloth::SolverConfig& c = s.flag.solver;
-        c.name = solver.oneOf("name", c.name, {"kangcho", "exact", "cg", "explicit", "chebyshev", "desbrun", "multigrid"});
-        if (c.name == "multigrid") c.tolerance = 1e-3;
-        c.iterations = solver.integer("iterations", c.iterations, 0, 100000);
-        c.compressionRule = solver.boolean("compression", c.compressionRule);
-        const std::string method =
-            solver.oneOf("method", c.name == "cg" ? "cg" : "cholesky", {"cholesky", "cg", "multigrid"});
-        c.method = method == "cg" ? cloth::SolverConfig::Method::CG
-                   : method == "multigrid" ? cloth::SolverConfig::Method::Multigrid
-                                           : cloth::SolverConfig::Method::Cholesky;
-        c.tolerance = solver.number("tolerance", c.tolerance, 1e-16, 0.5);
-        c.maxIterations = solver.integer("max_iterations", c.maxIterations, 1, 1000000);
-        c.substeps = solver.integer("substeps", c.substeps, 1, 100000);
-        c.threads = solver.integer("threads", c.threads, 1, 64);
-        c.singlePrecision = solver.oneOf("precision", "double", {"double", "float"}) == "float";
-        c.strainLimit = solver.number("strain_limit", c.strainLimit, 0, 10);
-        c.strainLimitPasses = solver.integer("strain_passes", c.strainLimitPasses, 1, 1000);
-        c.cycles = solver.integer("cycles", c.cycles, 0, 1000);
-        c.maxCycles = solver.integer("max_cycles", c.maxCycles, 1, 1000);
-        c.preSweeps = solver.integer("pre_sweeps", c.preSweeps, 0, 100);
-        c.postSweeps = solver.integer("post_sweeps", c.postSweeps, 0, 100);
-        c.damping = solver.number("damping", c.damping, 0.01, 1.5);
-        const std::string coarsening = solver.oneOf("coarsening", "auto", {"auto", "geometric", "aggregation"});
-        c.coarsening = coarsening == "geometric" ? cloth::SolverConfig::Coarsening::Geometric
-                       : coarsening == "aggregation" ? cloth::SolverConfig::Coarsening::Aggregation
-                                                     : cloth::SolverConfig::Coarsening::Auto;
-        c.rediscretize = solver.oneOf("coarse", "galerkin", {"galerkin", "rediscretize"}) == "rediscretize";
-        c.krylov = solver.oneOf("krylov", "cg", {"cg", "none"}) == "cg";
+        // The keys and their ranges come from the cloth library's solver table, as for --solver.
+        std::string error;
+        const std::string name = solver.string("name", s.flag.solver.name);
+        if (!cloth::defaultSolverConfig(name, s.flag.solver, &error))
+            solver.fail(solver.pathOf("name"), solver.at("name"), error);
+        for (const auto& [key, value] : solver.object().items()) {
+            if (key == "name") continue;
+            const std::string text = value.is_boolean() ? (value.get<bool>() ? "on" : "off")
+                                     : value.is_string() ? value.get<std::string>()
+                                                         : value.dump();
+            if (!value.is_primitive() || value.is_null() ||
+                !cloth::setSolverParameter(s.flag.solver, key, text, &error))
+                solver.fail(solver.pathOf(key.c_str()), value,
+                            value.is_primitive() && !value.is_null() ? error : "must be a number, a word or true/false");
+        }
+        if (const std::string problem = cloth::validate(s.flag.solver); !problem.empty())
+            solver.fail(solver.pathOf("name"), solver.has("name") ? solver.at("name") : nlohmann::json(name), problem);
     }
     s.flag.drag = f.number("drag", s.flag.drag, 0, 1e3);
     s.flag.thickness = f.number("thickness", s.flag.thickness, 0, 1);

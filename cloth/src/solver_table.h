@@ -1,0 +1,124 @@
+#pragma once
+// The solver table: every solver kind, its keys and its factory, in one place. A key is a row:
+// name, type, range, default (read from the kind's default settings), one line of doc, and how
+// to read and write its field. The parser, validation, describe(), the engine's scene parser
+// (through setSolverParameter), --help and the README's table are all loops over these rows.
+//
+// A new solver is one file (src/solvers/<name>.cpp) that defines its kind, and one line in
+// solverKinds() (solver_table.cpp).
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cloth/solver.h"
+
+namespace cloth {
+
+struct SolverKey {
+    enum class Type { Integer, Real, Choice };
+    const char* name = "";
+    Type type = Type::Integer;
+    double min = 0, max = 0;          // Integer, Real: the allowed range
+    bool minOpen = false, maxOpen = false;
+    std::vector<std::string> choices;  // Choice: the allowed words, in the order of their values
+    const char* doc = "";
+    bool alwaysShown = false;          // describe() prints it even at its default
+    std::function<double(const SolverConfig&)> get;  // Choice: the index of the word
+    std::function<void(SolverConfig&, double)> set;
+
+    std::string text(const SolverConfig& c) const;  // the value as the parser reads it
+    std::string range() const;                      // "[0, 100000]", "fast|gather|reference"
+};
+
+struct SolverKind {
+    const char* name;
+    const char* doc;
+    std::function<void(SolverConfig&)> defaults;  // sets the settings variant (and kind-specific defaults)
+    std::vector<SolverKey> keys;
+    std::function<std::string(const SolverConfig&)> check;  // rules across keys; empty string = fine
+    std::function<std::unique_ptr<Solver>(const SolverConfig&)> make;
+};
+
+const std::vector<SolverKind>& solverKinds();
+const SolverKind* findSolverKind(std::string_view name);
+
+// Row builders. S is the settings struct of the kind, or SolverConfig itself for the keys every
+// kind shares.
+namespace keys {
+
+template <class S>
+S& part(SolverConfig& c) {
+    if constexpr (std::is_same_v<S, SolverConfig>) return c;
+    else return c.get<S>();
+}
+template <class S>
+const S& part(const SolverConfig& c) {
+    if constexpr (std::is_same_v<S, SolverConfig>) return c;
+    else return c.get<S>();
+}
+
+inline SolverKey row(const char* name, SolverKey::Type type, const char* doc) {
+    SolverKey k;
+    k.name = name, k.type = type, k.doc = doc;
+    return k;
+}
+
+template <class S>
+SolverKey integer(const char* name, int S::*field, int min, int max, const char* doc) {
+    SolverKey k = row(name, SolverKey::Type::Integer, doc);
+    k.min = min, k.max = max;
+    k.get = [field](const SolverConfig& c) { return double(part<S>(c).*field); };
+    k.set = [field](SolverConfig& c, double v) { part<S>(c).*field = int(v); };
+    return k;
+}
+
+template <class S>
+SolverKey real(const char* name, double S::*field, double min, double max, bool minOpen, bool maxOpen,
+               const char* doc) {
+    SolverKey k = row(name, SolverKey::Type::Real, doc);
+    k.min = min, k.max = max, k.minOpen = minOpen, k.maxOpen = maxOpen;
+    k.get = [field](const SolverConfig& c) { return part<S>(c).*field; };
+    k.set = [field](SolverConfig& c, double v) { part<S>(c).*field = v; };
+    return k;
+}
+
+// A field that takes one of a few words; `values[i]` is the field's value for `words[i]`.
+template <class S, class V>
+SolverKey choice(const char* name, V S::*field, std::vector<std::pair<std::string, V>> options, const char* doc) {
+    SolverKey k = row(name, SolverKey::Type::Choice, doc);
+    std::vector<V> values;
+    for (auto& [word, value] : options) k.choices.push_back(word), values.push_back(value);
+    k.get = [field, values](const SolverConfig& c) {
+        for (std::size_t i = 0; i < values.size(); ++i)
+            if (values[i] == part<S>(c).*field) return double(i);
+        return 0.0;
+    };
+    k.set = [field, values](SolverConfig& c, double v) { part<S>(c).*field = values[std::size_t(v)]; };
+    return k;
+}
+
+inline SolverKey shown(SolverKey k) {
+    k.alwaysShown = true;
+    return k;
+}
+
+// The keys every kind takes (anti-stretch), and the one every implicit kind takes (eq. 17).
+std::vector<SolverKey> common(bool implicit);
+// `own` followed by the common keys.
+std::vector<SolverKey> with(std::vector<SolverKey> own, bool implicit);
+
+}  // namespace keys
+
+// The kinds, one per file in src/solvers/.
+SolverKind kangchoKind();
+SolverKind exactKind();
+SolverKind cgKind();
+SolverKind multigridKind();
+SolverKind chebyshevKind();
+SolverKind desbrunKind();
+SolverKind explicitKind();
+
+}  // namespace cloth

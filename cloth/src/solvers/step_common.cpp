@@ -1,0 +1,71 @@
+#include "solvers/step_common.h"
+
+#include "cloth/diagnostics.h"
+#include "cloth/strain_limit.h"
+
+namespace cloth {
+
+const char* toString(StepStatus status) {
+    switch (status) {
+        case StepStatus::Ok: return "ok";
+        case StepStatus::NonFinite: return "non-finite state";
+        case StepStatus::SolverFailed: return "solver failed";
+    }
+    return "?";
+}
+
+StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, State& state,
+                  State& scratch, StepResult result) {
+    const Index n = static_cast<Index>(state.x.cols());
+    for (const Pin& p : input.pins) {
+        if (p.particle < 0 || p.particle >= n) continue;
+        scratch.x.col(p.particle) = p.x;
+        scratch.v.col(p.particle) = p.v;
+    }
+    if (config.strainLimit > 0 && scratch.x.allFinite()) {
+        static thread_local std::vector<std::uint8_t> pinned;
+        pinned.assign(n, 0);
+        for (const Pin& p : input.pins)
+            if (p.particle >= 0 && p.particle < n) pinned[p.particle] = 1;
+        limitStretch(model, pinned, config.strainLimit, config.strainLimitPasses, input.h, scratch);
+    }
+    const Index bad = firstNonFinite(scratch);
+    if (bad >= 0) {
+        result.status = StepStatus::NonFinite;
+        result.badParticle = bad;
+        return result;
+    }
+    std::swap(state.x, scratch.x);
+    std::swap(state.v, scratch.v);
+    return result;
+}
+
+StepResult ImplicitSolver::step(const Model& model, const Environment& env, State& state, const StepInput& input) {
+    if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
+    StepResult result;
+    if (input.damping && Index(input.damping->size()) != model.particleCount()) return {StepStatus::SolverFailed, -1};
+    if (!computeDv(model, env, state, input, result)) result.status = StepStatus::SolverFailed;
+    if (result.status != StepStatus::Ok) return result;
+
+    const auto t0 = Clock::now();
+    scratch_.v = state.v + dv_;
+    scratch_.x = state.x + input.h * scratch_.v;
+    result = commit(model, config_, input, state, scratch_, result);
+    profile_.integrateMs = msSince(t0);
+    return result;
+}
+
+bool ImplicitSolver::computeDv(const Model& model, const Environment& env, const State& state,
+                               const StepInput& input, StepResult& result) {
+    auto t0 = Clock::now();
+    buildSystem(model, env, state, input, config_.compressionRule, sys_);
+    profile_.forcesMs = msSince(t0);
+    t0 = Clock::now();
+    const bool ok = solve(model, result);
+    profile_.solveMs = msSince(t0);
+    return ok;
+}
+
+bool ImplicitSolver::solve(const Model&, StepResult&) { return false; }
+
+}  // namespace cloth

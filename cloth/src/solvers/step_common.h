@@ -1,0 +1,39 @@
+#pragma once
+// What every solver's step shares: timing, the commit of a finished step (pins, anti-stretch
+// pass, finiteness), and the shape of an implicit step (build, solve for dv, v += dv, x += h v).
+
+#include <chrono>
+
+#include "cloth/solver.h"
+
+namespace cloth {
+
+using Clock = std::chrono::steady_clock;
+inline double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Writes the step's outcome `scratch` into `state`, or leaves `state` untouched when anything is
+// non-finite. Pinned particles land exactly on their targets with their target velocity; then
+// the optional anti-stretch pass (pinned particles stay put).
+StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, State& state,
+                  State& scratch, StepResult result);
+
+// Backward Euler step shape shared by every implicit solver: the system, dv, then v += dv,
+// x += h v. Subclasses supply dv.
+class ImplicitSolver : public Solver {
+public:
+    using Solver::Solver;
+    StepResult step(const Model& model, const Environment& env, State& state, const StepInput& input) override;
+
+protected:
+    // Fills dv_ and profile_.forcesMs / solveMs. By default: the assembled system (sys_), then
+    // solve().
+    virtual bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
+                           StepResult& result);
+    virtual bool solve(const Model& model, StepResult& result);
+    LinearSystem sys_;
+    State scratch_;
+};
+
+}  // namespace cloth
