@@ -33,9 +33,7 @@ int main(int argc, char** argv) {
     CLI::App app{"Steps a cloth scene headlessly and prints steps/s and diagnostics."};
     app.add_option("--scene", o.scene, "scene name")->check(CLI::IsMember({"hanging_flag"}));
     app.add_option("--solver", o.solver,
-                   "solver spec, e.g. kangcho[:iterations=N], multigrid[:cycles=N|tolerance=T], "
-                   "exact[:method=cholesky|cg|multigrid], cg, chebyshev, desbrun, explicit[:substeps=N] "
-                   "(every key: cloth/include/cloth/solver.h)");
+                   "solver spec name[:key=value,...], e.g. multigrid:cycles=2 (every solver and key below)");
     app.add_option("--steps", o.steps, "steps per repeat")->check(CLI::Range(1, 10000000));
     app.add_option("--nx", o.nx, "particles across")->check(CLI::Range(2, 1024));
     app.add_option("--ny", o.ny, "particles down")->check(CLI::Range(2, 1024));
@@ -46,7 +44,14 @@ int main(int argc, char** argv) {
     app.add_option("--solve-error-every", o.errorEvery,
                    "measure the solve error against the exact solve every N steps (0: never)")
         ->check(CLI::Range(0, 10000000));
+    bool solverTable = false;
+    app.add_flag("--solver-table", solverTable, "print the solver table as Markdown (the README's) and exit");
+    app.footer(cloth::solverHelp());
     CLI11_PARSE(app, argc, argv);
+    if (solverTable) {
+        std::cout << cloth::solverTableMarkdown();
+        return 0;
+    }
 
     cloth::SolverConfig config;
     std::string error;

@@ -35,11 +35,14 @@ int main(int argc, char** argv) {
     app.add_flag("--force", o.force, "allow writing into an existing output folder");
     app.add_option("--record-input", o.recordInput,
                    "write the actions actually applied as a script that replays to identical frames");
-    app.add_option("--solver", solver, "override the flag's solver, e.g. kangcho:iterations=2");
+    app.add_option("--solver", solver, "override the flag's solver, e.g. multigrid:cycles=2 (solvers and keys below)");
     app.add_option("--width", o.width, "override the render width")->check(CLI::Range(16, 7680));
     app.add_option("--height", o.height, "override the render height")->check(CLI::Range(16, 4320));
     app.add_flag("--no-progress", o.noProgress, "no progress bar");
-    app.add_option("--assets", o.assetsDir, "assets folder")->check(CLI::ExistingDirectory);
+    app.add_option("--assets", o.assetsDir, "assets folder (default: $FLAGSIM_ASSETS, the installed ones, or the source tree's)")
+        ->check(CLI::ExistingDirectory)
+        ->capture_default_str();
+    app.footer(cloth::solverHelp());
     CLI11_PARSE(app, argc, argv);
 
     try {

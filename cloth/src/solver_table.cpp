@@ -122,7 +122,8 @@ std::string SolverKey::range() const {
         for (const std::string& c : choices) out += (out.empty() ? "" : "|") + c;
         return out;
     }
-    return std::string(minOpen ? "(" : "[") + number(min) + ", " + number(max) + (maxOpen ? ")" : "]");
+    auto bound = [this](double v) { return type == Type::Integer ? std::to_string(int(v)) : number(v); };
+    return std::string(minOpen ? "(" : "[") + bound(min) + ", " + bound(max) + (maxOpen ? ")" : "]");
 }
 
 bool defaultSolverConfig(std::string_view name, SolverConfig& out, std::string* error) {
@@ -223,8 +224,11 @@ std::string solverTableMarkdown() {
         d.name = kind.name;
         kind.defaults(d);
         s << "| **" << kind.name << "** | | | | " << kind.doc << " |\n";
-        for (const SolverKey& k : kind.keys)
-            s << "| | `" << k.name << "` | `" << k.range() << "` | `" << k.text(d) << "` | " << k.doc << " |\n";
+        for (const SolverKey& k : kind.keys) {
+            std::string range = k.range();  // a '|' inside a table cell must be escaped, even in code
+            for (std::size_t p = range.find('|'); p != std::string::npos; p = range.find('|', p + 2)) range.insert(p, "\\");
+            s << "| | `" << k.name << "` | `" << range << "` | `" << k.text(d) << "` | " << k.doc << " |\n";
+        }
     }
     return s.str();
 }

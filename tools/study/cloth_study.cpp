@@ -367,6 +367,7 @@ int main(int argc, char** argv) {
         const bool hasValue = i + 1 < argc;
         if (a == "--help" || a == "-h") {
             std::fputs(kUsage, stdout);
+            std::fputs(("\n--solvers takes these (" + std::string("name[:key=value,...]") + "):\n" + cloth::solverHelp()).c_str(), stdout);
             return 0;
         } else if (a == "--quick") quick = true;
         else if (a == "--extremes-only") extremesOnly = true;

@@ -36,7 +36,7 @@ struct RunOptions {
     std::string recordInput;
     int width = 0, height = 0;  // 0: the scene's
     bool readback = false;      // read every frame back even in a window without recording
-    std::string assetsDir = FLAGSIM_ASSETS_DIR;
+    std::string assetsDir = defaultAssetsDir();
 };
 
 // Process-wide counters of expensive subsystem objects ever created (tests use them to show a

@@ -92,6 +92,9 @@ struct SceneConfig {
 SceneConfig loadScene(const std::string& path);
 // The same from text that came from `path` (relative paths resolve against its folder).
 SceneConfig parseScene(const std::string& text, const std::string& path);
+// Where the shipped assets are: $FLAGSIM_ASSETS if set; else <exe>/../share/flagsim/assets when
+// the running executable is an installed one; else the source tree's assets (build tree runs).
+std::string defaultAssetsDir();
 // "NAME" -> <assets>/scenes/NAME.json, a path with '/' or ".json" is used as it is.
 std::string resolveScenePath(const std::string& nameOrPath, const std::string& assetsDir);
 

@@ -1,5 +1,6 @@
 #include "engine/scene.h"
 
+#include <cstdlib>
 #include <filesystem>
 
 #include "core/json_fields.h"
@@ -42,6 +43,17 @@ std::string describeSubsystems(unsigned mask) {
     for (const auto& s : kSubsystemNames)
         if (mask & s.bit) out += std::string(out.empty() ? "" : ", ") + s.name;
     return out.empty() ? "(none)" : out;
+}
+
+std::string defaultAssetsDir() {
+    if (const char* env = std::getenv("FLAGSIM_ASSETS"); env && *env) return env;
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "flagsim" / "assets";
+        if (std::filesystem::is_directory(installed / "scenes", ec)) return installed.string();
+    }
+    return FLAGSIM_ASSETS_DIR;
 }
 
 std::string resolveScenePath(const std::string& nameOrPath, const std::string& assetsDir) {
