@@ -18,8 +18,8 @@ Scalar signedDistance(const Collider& c, const Vec3& p, Vec3* normal) {
         case Collider::Shape::Capsule: {
             Vec3 closest = c.center;
             if (c.shape == Collider::Shape::Capsule) {
-                const Scalar t = std::clamp((p - c.center).dot(c.axis), -c.halfExtents.x(),
-                                            c.halfExtents.x());
+                const Scalar half = std::abs(c.halfExtents.x());  // clamp needs low <= high
+                const Scalar t = std::clamp((p - c.center).dot(c.axis), -half, half);
                 closest = c.center + t * c.axis;
             }
             const Vec3 r = p - closest;
@@ -56,6 +56,7 @@ int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
     int moved = 0;
     for (Index i = 0; i < static_cast<Index>(state.x.cols()); ++i) {
         if (pinnedFlags && (*pinnedFlags)[i]) continue;
+        bool hit = false;
         for (const Collider& c : colliders) {
             Vec3 n;
             const Scalar d = signedDistance(c, state.x.col(i), &n) - thickness;
@@ -72,8 +73,9 @@ int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
                 rel = vt;
             }
             state.v.col(i) = c.velocity + rel;
-            ++moved;
+            hit = true;
         }
+        moved += hit;
     }
     return moved;
 }

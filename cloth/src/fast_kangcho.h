@@ -12,23 +12,19 @@
 #include <memory>
 #include <vector>
 
-#include "cloth/solver.h"
-#include "cloth/thread_pool.h"
+#include "kangcho_layout.h"
 
 namespace cloth {
 
 template <class T>
-class FastKangCho {
+class FastKangCho final : public KangChoLayout {
 public:
-    explicit FastKangCho(int threads) : pool_(threads) {}
-    // Computes dv for `iterations` Jacobi sweeps into dv (3 x n, double).
+    using KangChoLayout::KangChoLayout;
     void solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
-               bool compressionRule, int iterations, Points& dv, double* forcesMs);
+               bool compressionRule, int iterations, Points& dv, double* forcesMs) override;
 
 private:
     void prepare(const Model& model);
-    ThreadPool pool_;
-    std::uint64_t modelId_ = 0;
     int n_ = 0, springs_ = 0;
     // Topology, per adjacency entry: spring, other end, sign of u as seen from this particle.
     std::vector<int> adjStart_, adjSpring_, adjOther_;

@@ -41,6 +41,21 @@ struct Transfer {
         fill(R, t.rStart, t.rRow, t.rW);
         return t;
     }
+
+    // acc = sum over row I of P (prolong = true: fine row, coarse columns) or of P^T (restrict:
+    // coarse row, fine columns) of w * src[3 col .. 3 col + 2].
+    template <class A, class S>
+    void gather(bool prolong, int row, const S* src, A acc[3]) const {
+        const std::vector<int>& start = prolong ? pStart : rStart;
+        const std::vector<int>& col = prolong ? pCol : rRow;
+        const std::vector<double>& w = prolong ? pW : rW;
+        acc[0] = acc[1] = acc[2] = A(0);
+        for (int e = start[row]; e < start[row + 1]; ++e) {
+            const A we = A(w[e]);
+            const S* v = &src[3 * std::size_t(col[e])];
+            acc[0] += we * v[0], acc[1] += we * v[1], acc[2] += we * v[2];
+        }
+    }
 };
 
 // Linear interpolation from nc points to nf points over the same interval.
@@ -572,9 +587,8 @@ void Multigrid<T>::Impl::rediscretize(int l, T h2, bool compressionRule) {
     const Transfer& P = F.P;
     pool.run(C.A.n, [&](int begin, int end) {
         for (int I = begin; I < end; ++I) {
-            double x[3] = {0, 0, 0};
-            for (int e = S.pStart[I]; e < S.pStart[I + 1]; ++e)
-                for (int a = 0; a < 3; ++a) x[a] += S.pW[e] * F.pos[3 * std::size_t(S.pCol[e]) + a];
+            double x[3];
+            S.gather(true, I, F.pos.data(), x);
             for (int a = 0; a < 3; ++a) C.pos[3 * std::size_t(I) + a] = x[a];
             T base[6] = {0, 0, 0, 0, 0, 0};
             double best = -1;
@@ -710,12 +724,8 @@ void Multigrid<T>::Impl::cycle(int l, bool residualKnown) {
     const Transfer& P = L.P;
     pool.run(C.A.n, [&](int begin, int end) {  // b_c = P^T r; x_c = 0, so r_c = b_c
         for (int I = begin; I < end; ++I) {
-            T acc[3] = {0, 0, 0};
-            for (int e = P.rStart[I]; e < P.rStart[I + 1]; ++e) {
-                const T w = T(P.rW[e]);
-                const T* r = &L.r[3 * std::size_t(P.rRow[e])];
-                acc[0] += w * r[0], acc[1] += w * r[1], acc[2] += w * r[2];
-            }
+            T acc[3];
+            P.gather(false, I, L.r.data(), acc);
             for (int a = 0; a < 3; ++a) {
                 C.b[3 * std::size_t(I) + a] = acc[a];
                 C.r[3 * std::size_t(I) + a] = acc[a];
@@ -726,12 +736,8 @@ void Multigrid<T>::Impl::cycle(int l, bool residualKnown) {
     cycle(l + 1, true);
     pool.run(L.A.n, [&](int begin, int end) {  // x += P x_c on rows with an unknown
         for (int i = begin; i < end; ++i) {
-            T acc[3] = {0, 0, 0};
-            for (int e = P.pStart[i]; e < P.pStart[i + 1]; ++e) {
-                const T w = T(P.pW[e]);
-                const T* xc = &C.x[3 * std::size_t(P.pCol[e])];
-                acc[0] += w * xc[0], acc[1] += w * xc[1], acc[2] += w * xc[2];
-            }
+            T acc[3];
+            P.gather(true, i, C.x.data(), acc);
             for (int a = 0; a < 3; ++a) L.x[3 * std::size_t(i) + a] += L.active[i] * acc[a];
         }
     });

@@ -6,10 +6,104 @@
 
 namespace cloth {
 
+namespace {
+
+std::vector<SolverKey> exactKeys(bool withMethod) {
+    using E = ExactSettings;
+    using namespace keys;
+    std::vector<SolverKey> own;
+    if (withMethod)
+        own.push_back(shown(choice<E, E::Method>(
+            "method", &E::method, {{"cholesky", E::Method::Cholesky}, {"cg", E::Method::CG}, {"multigrid", E::Method::Multigrid}},
+            "how the system is solved")));
+    own.push_back(shown(real<E>("tolerance", &E::tolerance, 0, 1, true, true,
+                                "relative residual the solve must reach, else the step fails")));
+    own.push_back(integer<E>("max_iterations", &E::maxIterations, 1, 1000000,
+                             "cg: iterations; multigrid: V-cycles (at most 1000)"));
+    return with(std::move(own), true);
+}
+
+void cgDefaults(SolverConfig& c) {
+    ExactSettings s;
+    s.method = ExactSettings::Method::CG;
+    c.settings = s;
+}
+
+}  // namespace
+
+// The solver table: every kind with its keys. Rows are name, type, range, default (from the
+// settings struct), doc.
 const std::vector<SolverKind>& solverKinds() {
-    static const std::vector<SolverKind> kinds = {kangchoKind(),   exactKind(),   cgKind(),      multigridKind(),
-                                                  chebyshevKind(), desbrunKind(), explicitKind()};
+    using namespace keys;
+    using K = KangChoSettings;
+    using M = MultigridSettings;
+    using C = ChebyshevSettings;
+    using X = ExplicitSettings;
+    static const std::vector<SolverKind> kinds = {
+        {"kangcho", "the paper: dv(0) and Jacobi sweeps of the linearized backward Euler system (eqs. 11, 14)",
+         defaultsTo<K>,
+         with(std::vector<SolverKey>{
+                  shown(integer<K>("iterations", &K::iterations, 0, 100000, "Jacobi sweeps after dv(0); 1 = the paper's step")),
+                  choice<K, K::Impl>("impl", &K::impl,
+                                     {{"fast", K::Impl::Fast}, {"gather", K::Impl::Gather}, {"reference", K::Impl::Reference}},
+                                     "fast: stencil layout on grids, else gather; reference: the paper's step as written")} +
+                  parallel<K>("arithmetic of the step (the state stays double)"),
+              true),
+         {}, makeKangChoSolver},
+        {"exact", "the same system solved to a tolerance: the reference", defaultsTo<ExactSettings>, exactKeys(true), {},
+         makeExactSolver},
+        {"cg", "exact with method=cg: conjugate gradients, diagonal preconditioner", cgDefaults, exactKeys(false), {},
+         makeExactSolver},
+        {"multigrid", "V-cycles on the same system (damped Jacobi smoother, Galerkin coarse levels), as CG's preconditioner",
+         defaultsTo<M>,
+         with(std::vector<SolverKey>{
+                  shown(integer<M>("cycles", &M::cycles, 0, 1000, "fixed V-cycles; 0 = adaptive (tolerance, max_cycles)")),
+                  real<M>("tolerance", &M::tolerance, 0, 1, true, true, "adaptive: relative residual to reach"),
+                  integer<M>("max_cycles", &M::maxCycles, 1, 1000, "adaptive: at most this many cycles"),
+                  integer<M>("pre_sweeps", &M::preSweeps, 0, 100, "smoothing sweeps before the coarse correction"),
+                  integer<M>("post_sweeps", &M::postSweeps, 0, 100, "smoothing sweeps after it"),
+                  real<M>("damping", &M::damping, 0, 1.5, true, false, "smoother: x += damping W_ii^-1 r"),
+                  choice<M, M::Coarsening>("coarsening", &M::coarsening,
+                                           {{"auto", M::Coarsening::Auto},
+                                            {"geometric", M::Coarsening::Geometric},
+                                            {"aggregation", M::Coarsening::Aggregation}},
+                                           "auto: geometric on grids, smoothed aggregation on meshes"),
+                  choice<M, M::CoarseOperator>("coarse", &M::coarseOperator,
+                                               {{"galerkin", M::CoarseOperator::Galerkin},
+                                                {"rediscretize", M::CoarseOperator::Rediscretized}},
+                                               "coarse operators: P^T W P, or the cloth re-discretized (grids)"),
+                  choice<M, bool>("krylov", &M::conjugateGradients, {{"cg", true}, {"none", false}},
+                                  "cg: V-cycles precondition CG; none: V-cycles alone")} +
+                  parallel<M>("arithmetic of the solve (the state stays double)"),
+              true),
+         [](const SolverConfig& c) -> std::string {
+             const M& s = c.get<M>();
+             if (s.preSweeps + s.postSweeps == 0) return "solver 'multigrid': pre_sweeps + post_sweeps must be at least 1";
+             if (s.singlePrecision && s.tolerance < 1e-6)
+                 return "solver 'multigrid' parameter tolerance = " + std::to_string(s.tolerance) +
+                        " is below what precision=float can reach (>= 1e-6)";
+             return {};
+         },
+         makeMultigridSolver},
+        {"chebyshev", "Jacobi with Chebyshev semi-iterative acceleration (Wang 2015)", defaultsTo<C>,
+         with({shown(integer<C>("iterations", &C::iterations, 0, 100000, "accelerated Jacobi sweeps after dv(0)")),
+               real<C>("rho", &C::rho, 0, 1, false, true, "Jacobi spectral radius; 0 = estimated each step")},
+              true),
+         {}, makeChebyshevSolver},
+        {"desbrun", "Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once",
+         defaultsTo<DesbrunSettings>, common(false), {}, makeDesbrunSolver},
+        {"explicit", "symplectic Euler: v += h f / m, x += h v, in substeps", defaultsTo<X>,
+         with({shown(integer<X>("substeps", &X::substeps, 1, 100000, "substeps per step"))}, false), {},
+         makeExplicitSolver},
+    };
     return kinds;
+}
+
+SolverConfig defaultsOf(const SolverKind& kind) {
+    SolverConfig c;
+    c.name = kind.name;
+    kind.defaults(c);
+    return c;
 }
 
 const SolverKind* findSolverKind(std::string_view name) {
@@ -33,10 +127,12 @@ std::vector<SolverKey> common(bool implicit) {
     return out;
 }
 
-std::vector<SolverKey> with(std::vector<SolverKey> own, bool implicit) {
-    for (SolverKey& k : common(implicit)) own.push_back(std::move(k));
-    return own;
+std::vector<SolverKey> operator+(std::vector<SolverKey> a, std::vector<SolverKey> b) {
+    for (SolverKey& k : b) a.push_back(std::move(k));
+    return a;
 }
+
+std::vector<SolverKey> with(std::vector<SolverKey> own, bool implicit) { return std::move(own) + common(implicit); }
 
 }  // namespace keys
 
@@ -129,10 +225,7 @@ std::string SolverKey::range() const {
 bool defaultSolverConfig(std::string_view name, SolverConfig& out, std::string* error) {
     const SolverKind* kind = findSolverKind(name);
     if (!kind) return fail(error, "unknown solver '" + std::string(name) + "' (known: " + knownNames() + ")");
-    SolverConfig c;
-    c.name = kind->name;
-    kind->defaults(c);
-    out = std::move(c);
+    out = defaultsOf(*kind);
     return true;
 }
 
@@ -176,9 +269,7 @@ bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* er
 std::string validate(const SolverConfig& c) {
     const SolverKind* kind = findSolverKind(c.name);
     if (!kind) return "unknown solver '" + c.name + "' (known: " + knownNames() + ")";
-    SolverConfig defaults;
-    kind->defaults(defaults);
-    if (c.settings.index() != defaults.settings.index())
+    if (c.settings.index() != defaultsOf(*kind).settings.index())
         return "solver '" + c.name + "' holds the settings of another kind";
     for (const SolverKey& k : kind->keys)
         if (!inRange(k, k.get(c)))
@@ -189,9 +280,7 @@ std::string validate(const SolverConfig& c) {
 std::string SolverConfig::describe() const {
     const SolverKind* kind = findSolverKind(name);
     if (!kind) return name;
-    SolverConfig defaults;
-    defaults.name = name;
-    kind->defaults(defaults);
+    const SolverConfig defaults = defaultsOf(*kind);
     std::string out = name;
     char separator = ':';
     for (const SolverKey& k : kind->keys) {
@@ -202,36 +291,32 @@ std::string SolverConfig::describe() const {
     return out;
 }
 
-std::string solverHelp() {
-    std::ostringstream s;
-    s << "Solvers: name[:key=value,...]\n";
-    for (const SolverKind& kind : solverKinds()) {
-        SolverConfig d;
-        d.name = kind.name;
-        kind.defaults(d);
-        s << "\n  " << kind.name << "  " << kind.doc << "\n";
-        for (const SolverKey& k : kind.keys)
-            s << "    " << k.name << "=" << k.range() << " (default " << k.text(d) << ")  " << k.doc << "\n";
-    }
-    return s.str();
-}
+namespace {
 
-std::string solverTableMarkdown() {
+// The table as text: plain for --help, or Markdown for the README (a '|' inside a Markdown cell
+// must be escaped, even in code).
+std::string printTable(bool markdown) {
     std::ostringstream s;
-    s << "| solver | key | values | default | what it does |\n|---|---|---|---|---|\n";
+    s << (markdown ? "| solver | key | values | default | what it does |\n|---|---|---|---|---|\n"
+                   : "Solvers: name[:key=value,...]\n");
     for (const SolverKind& kind : solverKinds()) {
-        SolverConfig d;
-        d.name = kind.name;
-        kind.defaults(d);
-        s << "| **" << kind.name << "** | | | | " << kind.doc << " |\n";
+        const SolverConfig d = defaultsOf(kind);
+        if (markdown) s << "| **" << kind.name << "** | | | | " << kind.doc << " |\n";
+        else s << "\n  " << kind.name << "  " << kind.doc << "\n";
         for (const SolverKey& k : kind.keys) {
-            std::string range = k.range();  // a '|' inside a table cell must be escaped, even in code
-            for (std::size_t p = range.find('|'); p != std::string::npos; p = range.find('|', p + 2)) range.insert(p, "\\");
-            s << "| | `" << k.name << "` | `" << range << "` | `" << k.text(d) << "` | " << k.doc << " |\n";
+            std::string range;
+            for (const char ch : k.range()) range += markdown && ch == '|' ? std::string("\\|") : std::string(1, ch);
+            if (markdown) s << "| | `" << k.name << "` | `" << range << "` | `" << k.text(d) << "` | " << k.doc << " |\n";
+            else s << "    " << k.name << "=" << range << " (default " << k.text(d) << ")  " << k.doc << "\n";
         }
     }
     return s.str();
 }
+
+}  // namespace
+
+std::string solverHelp() { return printTable(false); }
+std::string solverTableMarkdown() { return printTable(true); }
 
 std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* error) {
     const std::string problem = validate(config);

@@ -4,8 +4,8 @@
 // to read and write its field. The parser, validation, describe(), the engine's scene parser
 // (through setSolverParameter), --help and the README's table are all loops over these rows.
 //
-// A new solver is one file (src/solvers/<name>.cpp) that defines its kind, and one line in
-// solverKinds() (solver_table.cpp).
+// A new solver is one file (src/solvers/<name>.cpp: its class and factory) and one entry, its
+// keys, in solverKinds() (solver_table.cpp).
 
 #include <functional>
 #include <memory>
@@ -44,6 +44,14 @@ struct SolverKind {
 
 const std::vector<SolverKind>& solverKinds();
 const SolverKind* findSolverKind(std::string_view name);
+// A kind's config at its defaults.
+SolverConfig defaultsOf(const SolverKind& kind);
+
+// Sets a config's settings to S's defaults.
+template <class S>
+void defaultsTo(SolverConfig& c) {
+    c.settings = S{};
+}
 
 // Row builders. S is the settings struct of the kind, or SolverConfig itself for the keys every
 // kind shares.
@@ -100,6 +108,13 @@ SolverKey choice(const char* name, V S::*field, std::vector<std::pair<std::strin
     return k;
 }
 
+// threads= and precision= of the kinds with a parallel float/double path.
+template <class S>
+std::vector<SolverKey> parallel(const char* what) {
+    return {integer<S>("threads", &S::threads, 1, 64, "worker threads (bit-identical results for any count)"),
+            choice<S, bool>("precision", &S::singlePrecision, {{"double", false}, {"float", true}}, what)};
+}
+
 inline SolverKey shown(SolverKey k) {
     k.alwaysShown = true;
     return k;
@@ -109,16 +124,17 @@ inline SolverKey shown(SolverKey k) {
 std::vector<SolverKey> common(bool implicit);
 // `own` followed by the common keys.
 std::vector<SolverKey> with(std::vector<SolverKey> own, bool implicit);
+// a followed by b.
+std::vector<SolverKey> operator+(std::vector<SolverKey> a, std::vector<SolverKey> b);
 
 }  // namespace keys
 
-// The kinds, one per file in src/solvers/.
-SolverKind kangchoKind();
-SolverKind exactKind();
-SolverKind cgKind();
-SolverKind multigridKind();
-SolverKind chebyshevKind();
-SolverKind desbrunKind();
-SolverKind explicitKind();
+// The solvers' factories, one file each in src/solvers/.
+std::unique_ptr<Solver> makeKangChoSolver(const SolverConfig& config);
+std::unique_ptr<Solver> makeExactSolver(const SolverConfig& config);  // method=multigrid: makeMultigridSolver
+std::unique_ptr<Solver> makeMultigridSolver(const SolverConfig& config);
+std::unique_ptr<Solver> makeChebyshevSolver(const SolverConfig& config);
+std::unique_ptr<Solver> makeDesbrunSolver(const SolverConfig& config);
+std::unique_ptr<Solver> makeExplicitSolver(const SolverConfig& config);
 
 }  // namespace cloth

@@ -286,7 +286,6 @@ template <class T>
 void StencilKangCho<T>::prepare(const Model& model) {
     modelId_ = model.id();
     n_ = model.particleCount();
-    offsets_ = springFamilies(model);
     pad_ = offsets_.empty() ? 0 : offsets_.back();
     const std::size_t size = std::size_t(n_) + 2 * std::size_t(pad_);
     auto zero = [size](Field& f) { f.storage.assign(size, T(0)); };

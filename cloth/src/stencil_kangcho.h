@@ -17,8 +17,7 @@
 
 #include <vector>
 
-#include "cloth/solver.h"
-#include "cloth/thread_pool.h"
+#include "kangcho_layout.h"
 
 namespace cloth {
 
@@ -28,12 +27,12 @@ std::vector<int> springFamilies(const Model& model);
 constexpr int kMaxFamilies = 8;
 
 template <class T>
-class StencilKangCho {
+class StencilKangCho final : public KangChoLayout {
 public:
-    explicit StencilKangCho(int threads) : pool_(threads) {}
-    // Requires !springFamilies(model).empty(). Computes dv for `iterations` Jacobi sweeps.
+    // offsets: springFamilies(model) of the model it will step, not empty.
+    StencilKangCho(int threads, std::vector<int> offsets) : KangChoLayout(threads), offsets_(std::move(offsets)) {}
     void solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
-               bool compressionRule, int iterations, Points& dv, double* forcesMs);
+               bool compressionRule, int iterations, Points& dv, double* forcesMs) override;
 
     // One padded structure-of-arrays vector: element i at data()[pad + i].
     struct Field {
@@ -46,8 +45,6 @@ private:
     template <class Fn>
     void forBlocks(int n, const Fn& fn);
 
-    ThreadPool pool_;
-    std::uint64_t modelId_ = 0;
     int n_ = 0, pad_ = 0;
     std::vector<int> offsets_;
     // Per family: stiffness and rest length per slot (static); u, a, b, force magnitude (per step).

@@ -31,7 +31,6 @@ TEST(RuntimeCloth, BenchClothHasExactlyItsPhasesAndNoBulletWorldOrGlContext) {
     EXPECT_EQ(after.windows, before.windows);
     ASSERT_NE(rt.flag(), nullptr);
     EXPECT_EQ(rt.flag()->steps(), 30 * 4);  // 240 Hz ticks at 60 frames/s
-    EXPECT_LT(rt.maxPinError(), 1e-12);
 }
 
 TEST(RuntimeCloth, SameSceneGivesBitIdenticalClothState) {

@@ -17,14 +17,32 @@ SceneConfig headless(const char* name) {
 
 }  // namespace
 
-TEST(RuntimeVehicle, PinsHaveZeroErrorAlongTheDrivenPath) {
+TEST(RuntimeVehicle, ThePolesNeighboursFollowItAlongTheDrivenPath) {
+    // The pins' targets lie on one vertical line of the pole, a row spacing apart, and every
+    // pinned particle's free neighbour stays within a stretched spring of its pin, while the
+    // vehicle drives the slalom and brakes hard. (Where the pinned particles themselves end up
+    // cannot fail a test: the step assigns them their targets.)
+    const SceneConfig scene = headless("flag_vehicle");
     RunOptions o;
     o.duration = 6;  // accelerate, slalom, into the hard brake
-    Runtime rt(headless("flag_vehicle"), o);
-    double maxSpeed = 0;
-    while (rt.frame()) maxSpeed = std::max(maxSpeed, rt.carrierVelocity().norm());
+    Runtime rt(scene, o);
+    const int nx = scene.flag.nx;
+    const double dx = scene.flag.width / (nx - 1), dy = scene.flag.height / (scene.flag.ny - 1);
+    double maxSpeed = 0, maxSpacingError = 0, maxNeighbourDistance = 0;
+    while (rt.frame()) {
+        maxSpeed = std::max(maxSpeed, rt.carrierVelocity().norm());
+        const auto& pins = rt.flag()->pins();
+        const Eigen::Vector3d down = (pins.back().x - pins.front().x).normalized();
+        for (std::size_t r = 0; r < pins.size(); ++r) {
+            const Eigen::Vector3d expected = pins.front().x + double(r) * dy * down;
+            maxSpacingError = std::max(maxSpacingError, (pins[r].x - expected).norm());
+            maxNeighbourDistance =
+                std::max(maxNeighbourDistance, (rt.flag()->state().x.col(pins[r].particle + 1) - pins[r].x).norm());
+        }
+    }
     EXPECT_GT(maxSpeed, 10.0) << "the script should really drive";
-    EXPECT_LT(rt.maxPinError(), 1e-9);
+    EXPECT_LT(maxSpacingError, 1e-9);
+    EXPECT_LT(maxNeighbourDistance, 1.5 * dx);
     EXPECT_EQ(rt.flag()->failures(), 0);
 }
 

@@ -1,8 +1,9 @@
 #pragma once
 // Simple colliders the cloth is kept out of: planes, spheres, capsules and oriented boxes, each
-// with a thickness. Resolved after a step by projecting penetrating particles to the surface and
-// removing the normal component of their velocity relative to the collider (with Coulomb-like
-// friction on the tangential part).
+// with a thickness. Resolved after a step by projecting penetrating particles to the surface and,
+// when they move into the collider, removing that inward normal velocity (relative to the
+// collider) and reducing the tangential part by friction times the removed normal speed
+// (Coulomb-like; never reversed). A particle already moving out keeps its velocity.
 
 #include <vector>
 
@@ -15,14 +16,15 @@ struct Collider {
     Vec3 center = Vec3::Zero();   // plane: a point on it; capsule: segment midpoint
     Vec3 axis = Vec3::UnitY();    // plane: normal; capsule: unit segment direction
     Mat3 rotation = Mat3::Identity();  // box: columns are its local axes in world
-    Vec3 halfExtents = Vec3::Zero();   // box: half sizes; capsule: x = half segment length
+    Vec3 halfExtents = Vec3::Zero();   // box: half sizes; capsule: |x| = half segment length
     Scalar radius = 0;            // sphere/capsule radius
     Vec3 velocity = Vec3::Zero(); // collider's velocity (for relative friction)
     Scalar friction = 0.3;
 };
 
 // Projects particles out of the colliders (thickness added to every shape). Pinned particles
-// (flags[i] != 0) are left alone. Returns the number of particles moved.
+// (flags[i] != 0) are left alone. Returns the number of particles moved (a particle inside two
+// colliders counts once).
 int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
                       const std::vector<std::uint8_t>* pinnedFlags, State& state);
 

@@ -136,13 +136,25 @@ public:
     // What the solver chose at run time, if anything (multigrid: its levels), for logs.
     virtual std::string details() const { return {}; }
 
-    explicit Solver(SolverConfig config) : config_(std::move(config)) {}
-
 protected:
+    Solver() = default;  // solvers are made by makeSolver, which sets config_ first
+    template <class S>
+    const S& settings() const { return config_.get<S>(); }
     SolverConfig config_;
     StepProfile profile_;
     Points dv_;
+
+    template <class T>
+    friend std::unique_ptr<Solver> createSolver(const SolverConfig& config);
 };
+
+// A solver of class T holding `config` (used by the solver table's factories).
+template <class T>
+std::unique_ptr<Solver> createSolver(const SolverConfig& config) {
+    std::unique_ptr<Solver> solver(new T());
+    solver->config_ = config;
+    return solver;
+}
 
 // Returns null and sets *error for an invalid config.
 std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* error = nullptr);

@@ -15,12 +15,11 @@ namespace {
 // costs one sweep, like the paper's; rho is estimated from the system unless given: for springs
 // along a line, h^2 sum_j k_ij / (m_i + h^2 sum_j k_ij) is the scalar Jacobi radius bound.
 class ChebyshevSolver final : public ImplicitSolver {
-public:
-    explicit ChebyshevSolver(SolverConfig config) : ImplicitSolver(std::move(config)), s_(config_.get<ChebyshevSettings>()) {}
+    Points prev_, next_;
 
-protected:
     bool solve(const Model& model, StepResult& result) override {
-        Scalar rho = s_.rho;
+        const ChebyshevSettings& opt = settings<ChebyshevSettings>();
+        Scalar rho = opt.rho;
         if (rho <= 0) {
             const Scalar h2 = sys_.h * sys_.h;
             std::vector<Scalar> ksum(model.particleCount(), 0);
@@ -32,33 +31,19 @@ protected:
         jacobiStart(sys_, dv_);
         prev_ = dv_;
         Scalar omega = 1;
-        for (int k = 1; k <= s_.iterations; ++k) {
+        for (int k = 1; k <= opt.iterations; ++k) {
             jacobiSweep(model, sys_, dv_, next_);
             omega = k == 1 ? 1 : (k == 2 ? 2 / (2 - rho * rho) : 4 / (4 - rho * rho * omega));
             next_ = omega * (next_ - prev_) + prev_;  // pinned rows: prescribed in both, unchanged
             std::swap(prev_, dv_);
             std::swap(dv_, next_);
         }
-        result.iterations = s_.iterations;
+        result.iterations = opt.iterations;
         return true;
     }
-
-private:
-    ChebyshevSettings s_;
-    Points prev_, next_;
 };
 
 }  // namespace
-
-SolverKind chebyshevKind() {
-    using S = ChebyshevSettings;
-    using namespace keys;
-    return {"chebyshev", "Jacobi with Chebyshev semi-iterative acceleration (Wang 2015)",
-            [](SolverConfig& c) { c.settings = S{}; },
-            with({shown(integer<S>("iterations", &S::iterations, 0, 100000, "accelerated Jacobi sweeps after dv(0)")),
-                  real<S>("rho", &S::rho, 0, 1, false, true, "Jacobi spectral radius; 0 = estimated each step")},
-                 true),
-            {}, [](const SolverConfig& c) { return std::unique_ptr<Solver>(new ChebyshevSolver(c)); }};
-}
+std::unique_ptr<Solver> makeChebyshevSolver(const SolverConfig& config) { return createSolver<ChebyshevSolver>(config); }
 
 }  // namespace cloth

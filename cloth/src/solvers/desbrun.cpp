@@ -20,7 +20,6 @@ namespace {
 // applied (documented in docs/study.md).
 class DesbrunSolver final : public Solver {
 public:
-    using Solver::Solver;
     StepResult step(const Model& model, const Environment& env, State& state, const StepInput& input) override {
         if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
         const Index n = model.particleCount();
@@ -92,11 +91,6 @@ private:
 };
 
 }  // namespace
-
-SolverKind desbrunKind() {
-    return {"desbrun", "Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once",
-            [](SolverConfig& c) { c.settings = DesbrunSettings{}; }, keys::common(false), {},
-            [](const SolverConfig& c) { return std::unique_ptr<Solver>(new DesbrunSolver(c)); }};
-}
+std::unique_ptr<Solver> makeDesbrunSolver(const SolverConfig& config) { return createSolver<DesbrunSolver>(config); }
 
 }  // namespace cloth

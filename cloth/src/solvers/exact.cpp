@@ -7,7 +7,6 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
-#include "multigrid.h"
 #include "solver_table.h"
 #include "solvers/step_common.h"
 
@@ -34,38 +33,18 @@ bool solveExact(const Model& model, const LinearSystem& sys, Points& dv, Scalar*
 
 namespace {
 
+// method=cholesky or cg; method=multigrid is the multigrid solver held to the tolerance.
 class ExactSolver final : public ImplicitSolver {
-public:
-    explicit ExactSolver(SolverConfig config) : ImplicitSolver(std::move(config)), s_(config_.get<ExactSettings>()) {}
-
-protected:
-    bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                   StepResult& result) override {
-        if (s_.method != ExactSettings::Method::Multigrid)
-            return ImplicitSolver::computeDv(model, env, state, input, result);
-        if (!multigrid_) {
-            MultigridSettings m;
-            m.tolerance = s_.tolerance;
-            m.maxCycles = std::min(s_.maxIterations, 1000);
-            multigrid_ = std::make_unique<Multigrid<double>>(m, 1);
-        }
-        MultigridStats stats;
-        const auto t0 = Clock::now();
-        const bool ok = multigrid_->solve(model, env, state, input, config_.compressionRule, dv_, stats, &profile_.forcesMs);
-        profile_.solveMs = msSince(t0) - profile_.forcesMs;
-        result.iterations = stats.cycles;
-        result.residual = stats.residual;
-        return ok && stats.residual <= s_.tolerance;
-    }
     bool solve(const Model& model, StepResult& result) override {
-        if (s_.method == ExactSettings::Method::Cholesky) {
+        const ExactSettings& s = settings<ExactSettings>();
+        if (s.method == ExactSettings::Method::Cholesky) {
             result.iterations = 1;
-            return solveExact(model, sys_, dv_, &result.residual, s_.tolerance);
+            return solveExact(model, sys_, dv_, &result.residual, s.tolerance);
         }
         const Eigen::SparseMatrix<Scalar> W = assembleMatrix(model, sys_);
         Eigen::ConjugateGradient<Eigen::SparseMatrix<Scalar>, Eigen::Lower | Eigen::Upper> cg;
-        cg.setTolerance(s_.tolerance);
-        cg.setMaxIterations(s_.maxIterations);
+        cg.setTolerance(s.tolerance);
+        cg.setMaxIterations(s.maxIterations);
         cg.compute(W);
         const Eigen::Map<const Eigen::VectorXd> b(sys_.rhs.data(), sys_.rhs.size());
         // Warm start from the Jacobi guess dv(0): cheap and always at least as good as zero.
@@ -75,47 +54,15 @@ protected:
         result.iterations = static_cast<int>(cg.iterations());
         result.residual = cg.error();
         dv_ = Eigen::Map<const Points>(x.data(), 3, model.particleCount());
-        return x.allFinite() && cg.info() == Eigen::Success && cg.error() <= s_.tolerance;
+        return x.allFinite() && cg.info() == Eigen::Success && cg.error() <= s.tolerance;
     }
-
-private:
-    ExactSettings s_;
-    std::unique_ptr<Multigrid<double>> multigrid_;
 };
-
-std::vector<SolverKey> exactKeys(bool withMethod) {
-    using S = ExactSettings;
-    using namespace keys;
-    std::vector<SolverKey> own;
-    if (withMethod)
-        own.push_back(shown(choice<S, S::Method>(
-            "method", &S::method,
-            {{"cholesky", S::Method::Cholesky}, {"cg", S::Method::CG}, {"multigrid", S::Method::Multigrid}},
-            "how the system is solved")));
-    own.push_back(shown(real<S>("tolerance", &S::tolerance, 0, 1, true, true,
-                                "relative residual the solve must reach, else the step fails")));
-    own.push_back(integer<S>("max_iterations", &S::maxIterations, 1, 1000000,
-                             "cg: iterations; multigrid: V-cycles (at most 1000)"));
-    return with(std::move(own), true);
-}
-
-std::unique_ptr<Solver> makeExact(const SolverConfig& c) { return std::unique_ptr<Solver>(new ExactSolver(c)); }
 
 }  // namespace
 
-SolverKind exactKind() {
-    return {"exact", "the same system solved to a tolerance: the reference",
-            [](SolverConfig& c) { c.settings = ExactSettings{}; }, exactKeys(true), {}, makeExact};
-}
-
-SolverKind cgKind() {
-    return {"cg", "exact with method=cg: conjugate gradients, diagonal preconditioner",
-            [](SolverConfig& c) {
-                ExactSettings s;
-                s.method = ExactSettings::Method::CG;
-                c.settings = s;
-            },
-            exactKeys(false), {}, makeExact};
+std::unique_ptr<Solver> makeExactSolver(const SolverConfig& config) {
+    if (config.get<ExactSettings>().method == ExactSettings::Method::Multigrid) return makeMultigridSolver(config);
+    return createSolver<ExactSolver>(config);
 }
 
 }  // namespace cloth

@@ -11,12 +11,11 @@ namespace {
 // their targets.
 class ExplicitSolver final : public Solver {
 public:
-    using Solver::Solver;
     StepResult step(const Model& model, const Environment& env, State& state,
                     const StepInput& input) override {
         if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
         const Index n = model.particleCount();
-        const int substeps = config_.get<ExplicitSettings>().substeps;
+        const int substeps = settings<ExplicitSettings>().substeps;
         const Scalar hs = input.h / substeps;
         const auto& mass = model.masses();
         std::vector<std::uint8_t> pinned(n, 0);
@@ -55,14 +54,6 @@ private:
 };
 
 }  // namespace
-
-SolverKind explicitKind() {
-    using S = ExplicitSettings;
-    using namespace keys;
-    return {"explicit", "symplectic Euler: v += h f / m, x += h v, in substeps",
-            [](SolverConfig& c) { c.settings = S{}; },
-            with({shown(integer<S>("substeps", &S::substeps, 1, 100000, "substeps per step"))}, false), {},
-            [](const SolverConfig& c) { return std::unique_ptr<Solver>(new ExplicitSolver(c)); }};
-}
+std::unique_ptr<Solver> makeExplicitSolver(const SolverConfig& config) { return createSolver<ExplicitSolver>(config); }
 
 }  // namespace cloth

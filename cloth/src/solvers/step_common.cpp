@@ -3,15 +3,14 @@
 #include "cloth/diagnostics.h"
 #include "cloth/strain_limit.h"
 
+#include <iterator>
+
 namespace cloth {
 
 const char* toString(StepStatus status) {
-    switch (status) {
-        case StepStatus::Ok: return "ok";
-        case StepStatus::NonFinite: return "non-finite state";
-        case StepStatus::SolverFailed: return "solver failed";
-    }
-    return "?";
+    static const char* const names[] = {"ok", "non-finite state", "solver failed"};
+    const auto i = std::size_t(status);
+    return i < std::size(names) ? names[i] : "?";
 }
 
 StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, State& state,

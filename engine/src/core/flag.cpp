@@ -1,5 +1,7 @@
 #include "engine/flag.h"
 
+#include "cloth/presets.h"
+
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -47,13 +49,11 @@ Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& c
     airParams_ = scene.air;
     thickness_ = scene.flag.thickness;
     substeps_ = scene.flag.substeps;
-    const int nx = model_.gridNx();
+    pins_ = cloth::pinColumn(model_);  // column 0 at its rest position: the pole edge in pole space
     pinnedFlags_.assign(model_.particleCount(), 0);
-    for (int r = 0; r < model_.gridNy(); ++r) {
-        const cloth::Index p = r * nx;
-        pinnedFlags_[p] = 1;
-        pinLocal_.push_back(model_.restPositions().col(p));
-        pins_.push_back({p, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+    for (const cloth::Pin& p : pins_) {
+        pinnedFlags_[p.particle] = 1;
+        pinLocal_.push_back(p.x);
     }
     resetToRest(carrier);
 }

@@ -1,0 +1,27 @@
+#pragma once
+// The interface of kangcho's fast layouts (fast_kangcho.h: per-particle gather, any mesh;
+// stencil_kangcho.h: grids): dv(0) and `iterations` Jacobi sweeps of the paper's system, computed
+// in the layout's own data structures, in precision T, from the same kernels (kernels.h).
+
+#include <cstdint>
+
+#include "cloth/solver.h"
+#include "cloth/thread_pool.h"
+
+namespace cloth {
+
+class KangChoLayout {
+public:
+    explicit KangChoLayout(int threads) : pool_(threads) {}
+    virtual ~KangChoLayout() = default;
+    // dv (3 x n, double; pinned particles get their prescribed change). forcesMs: the time spent
+    // building the system.
+    virtual void solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
+                       bool compressionRule, int iterations, Points& dv, double* forcesMs) = 0;
+
+protected:
+    ThreadPool pool_;
+    std::uint64_t modelId_ = 0;  // the model the layout was prepared for
+};
+
+}  // namespace cloth
