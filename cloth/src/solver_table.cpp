@@ -16,6 +16,9 @@ std::vector<SolverKey> exactKeys(bool withMethod) {
         own.push_back(shown(choice<E, E::Method>(
             "method", &E::method, {{"cholesky", E::Method::Cholesky}, {"cg", E::Method::CG}, {"multigrid", E::Method::Multigrid}},
             "how the system is solved")));
+    else
+        own.push_back(integer<E>("iterations", &E::iterations, 0, 1000000,
+                                 "a fixed number of iterations, an approximation; 0 = until the tolerance"));
     own.push_back(shown(real<E>("tolerance", &E::tolerance, 0, 1, true, true,
                                 "relative residual the solve must reach, else the step fails")));
     own.push_back(integer<E>("max_iterations", &E::maxIterations, 1, 1000000,

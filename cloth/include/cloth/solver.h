@@ -41,6 +41,9 @@ struct ExactSettings {
     Method method = Method::Cholesky;
     double tolerance = 1e-10;  // relative residual the solve must reach, or the step fails
     int maxIterations = 10000; // cg: iterations; multigrid: V-cycles
+    // cg only: a fixed number of iterations, an approximation that never fails the step for not
+    // converging (as kangcho:iterations=N); 0 = until the tolerance, within max_iterations.
+    int iterations = 0;
 };
 
 struct MultigridSettings {
