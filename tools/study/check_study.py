@@ -8,7 +8,7 @@ import csv
 import os
 import sys
 
-COLUMNS = ["scene", "size", "stiffness", "h", "family", "solver", "ms_per_step", "solve_error", "traj_error_be",
+COLUMNS = ["row", "scene", "size", "stiffness", "h", "family", "solver", "ms_per_step", "timing", "solve_error", "traj_error_be",
            "traj_error_fine", "max_stretch", "p99_stretch", "energy_growth", "stable", "fail_step"]
 FAMILIES = {"kangcho", "kangcho_no_eq17", "exact", "desbrun", "cg", "chebyshev", "explicit", "bullet", "multigrid",
             "multigrid_stationary", "multigrid_rediscretized"}
@@ -16,14 +16,20 @@ SCENES = {"hanging_flag", "vehicle_path"}
 
 
 def check_extremes(d):
-    """Every extreme case must be stable with the demo's default configuration."""
+    """Every extreme case must be stable with the demo's default configuration at 33x33 (at
+    65x65 the demo's default is measured, not asserted: docs/study.md)."""
     with open(os.path.join(d, "extreme.csv"), newline="") as f:
-        rows = [r for r in csv.DictReader(f) if r["config"] == "demo_default"]
+        reader = csv.DictReader(f)
+        missing = [c for c in ["ms_per_tick", "max_stretch", "peak_stretch", "p99_stretch", "late_max_stretch"]
+                   if c not in reader.fieldnames]
+        rows = [r for r in reader if r["config"] == "demo_default" and r["size"] == "33"]
+    if missing:
+        sys.exit(f"{d}/extreme.csv: missing columns {missing}")
     cases = {"speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"}
     bad = [r["case"] for r in rows if r["stable"] != "1"] + sorted(cases - {r["case"] for r in rows})
     if bad:
-        sys.exit(f"{d}/extreme.csv: the demo's default configuration is not stable in: {bad}")
-    print(f"{d}/extreme.csv: the demo's default configuration is stable in all {len(rows)} extreme cases")
+        sys.exit(f"{d}/extreme.csv: the demo's default configuration is not stable at 33x33 in: {bad}")
+    print(f"{d}/extreme.csv: the demo's default configuration is stable at 33x33 in all {len(rows)} extreme cases")
 
 
 def main():

@@ -272,6 +272,7 @@ struct Extreme {
     double duration;
     std::function<engine::RigidFrame(double)> carrier;  // pose and velocity at time t
     double massScale = 1, wind = 0;
+    double jumpAt = -1;  // a discontinuity of the pole (teleport): peak_stretch leaves out 0.25 s after it
 };
 
 std::vector<Extreme> extremes() {
@@ -310,7 +311,7 @@ std::vector<Extreme> extremes() {
                      RigidFrame c;
                      if (t >= 0.5) c.position = Vec3(1, 0, 0);
                      return c;
-                 }});
+                 }, 1, 0, 0.5});
     e.push_back({"light_particles", 3, [](double t) {  // 1/100 of the mass, driven at 20 m/s
                      RigidFrame c;
                      c.position = Vec3(0, 0, 20 * t);
@@ -337,8 +338,22 @@ vehicle path, a scan over stiffness and time step, and the demo's flag in six ex
   --no-scan            skip the stiffness and time-step scan
   --no-extremes        skip the extreme cases (extreme.csv)
   --extremes-only      only the extreme cases
+  --configs LIST       comma-separated subset of the extreme-case configurations (by name)
+  --extreme-sizes LIST flag sides for the extreme cases (default 33,65, --quick 33; the flag keeps
+                       its aspect)
+  --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
+                       numbers; tools/study/merge_shards.py joins the parts)
+  --parallel           mark the timing columns as taken while other shards ran (timing=parallel)
   --help               this text
 )";
+
+// shard.json: which part of the work this run holds and how many rows the whole run has, so that
+// merge_shards.py can tell a complete set of shards from an incomplete one.
+void writeShardInfo(const std::string& out, int shard, int shards, long configRows, long extremeRows) {
+    std::ofstream f(out + "/shard.json");
+    f << "{\"shard\": " << shard << ", \"of\": " << shards << ", \"rows\": {\"error_vs_runtime.csv\": " << configRows
+      << ", \"extreme.csv\": " << extremeRows << "}}\n";
+}
 
 std::vector<std::string> split(const std::string& text, char sep) {
     std::vector<std::string> parts;
@@ -354,9 +369,11 @@ std::vector<std::string> split(const std::string& text, char sep) {
 }
 
 int main(int argc, char** argv) {
-    bool quick = false, extremesOnly = false, scan = true, doExtremes = true;
+    bool quick = false, extremesOnly = false, scan = true, doExtremes = true, parallel = false;
+    int shard = 1, shards = 1;
+    std::vector<int> extremeSizes;  // default: 33 and 65 (--quick: 33)
     std::string out = "out/study";
-    std::vector<std::string> sceneFilter, solverSpecs;
+    std::vector<std::string> sceneFilter, solverSpecs, variantFilter;
     std::vector<int> sizeOverride;
     auto usageError = [](const std::string& why) {
         std::fprintf(stderr, "cloth_study: %s\n%s", why.c_str(), kUsage);
@@ -373,6 +390,22 @@ int main(int argc, char** argv) {
         else if (a == "--extremes-only") extremesOnly = true;
         else if (a == "--no-scan") scan = false;
         else if (a == "--no-extremes") doExtremes = false;
+        else if (a == "--parallel") parallel = true;
+        else if (a == "--configs" && hasValue) variantFilter = split(argv[++i], ',');
+        else if (a == "--shard" && hasValue) {
+            const std::string v = argv[++i];
+            if (std::sscanf(v.c_str(), "%d/%d", &shard, &shards) != 2 || shards < 1 || shards > 1000 || shard < 1 ||
+                shard > shards || v.find_first_not_of("0123456789/") != std::string::npos)
+                return usageError("--shard: '" + v + "' is not K/N with 1 <= K <= N <= 1000");
+        } else if (a == "--extreme-sizes" && hasValue) {
+            extremeSizes.clear();
+            for (const std::string& v : split(argv[++i], ',')) {
+                char* end = nullptr;
+                const long n = std::strtol(v.c_str(), &end, 10);
+                if (*end != '\0' || n < 5 || n > 257) return usageError("--extreme-sizes: '" + v + "' is not a side in [5, 257]");
+                extremeSizes.push_back(int(n));
+            }
+        }
         else if (a == "--out" && hasValue) out = argv[++i];
         else if (a == "--scenes" && hasValue) {
             sceneFilter = split(argv[++i], ',');
@@ -394,6 +427,40 @@ int main(int argc, char** argv) {
             }
         } else return usageError("unknown or incomplete option '" + a + "'");
     }
+    // The extreme cases' configurations (validated before any work starts).
+    engine::SceneConfig demo = engine::loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/flag_vehicle.json");
+    struct Variant {
+        std::string name, solver;
+        int substeps;
+        int implicitAir = -1;  // -1: as the demo's scene says, else 0 / 1
+    };
+    std::vector<Variant> variants = {{"demo_default", demo.flag.solver.describe(), demo.flag.substeps},
+                                     {"kangcho_1", "kangcho:iterations=1", 1},
+                                     {"kangcho_1_substeps_4", "kangcho:iterations=1", 4},
+                                     {"kangcho_1_strain_10pct", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 1},
+                                     {"kangcho_1_strain_10pct_substeps_4", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 4},
+                                     {"kangcho_2", "kangcho:iterations=2", 1},
+                                     {"cg_5", "cg:iterations=5", 1},
+                                     {"desbrun", "desbrun", 1},
+                                     {"desbrun_strain_10pct", "desbrun:strain_limit=0.1,strain_passes=16", 1},
+                                     {"explicit_10", "explicit:substeps=10", 1},
+                                     {"kangcho_1_strain_10pct_implicit_air", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 1, 1}};
+    if (!quick)
+        for (const Variant& v : std::vector<Variant>{{"multigrid", "multigrid", 1, 1},
+                                                     {"multigrid_explicit_air", "multigrid", 1, 0},
+                                                     {"multigrid_1_cycle", "multigrid:cycles=1", 1, 1}})
+            variants.push_back(v);
+    if (!quick) variants.push_back({"exact", "exact", 1});
+    if (!variantFilter.empty()) {
+        std::vector<Variant> chosen;
+        for (const std::string& name : variantFilter) {
+            const auto it = std::find_if(variants.begin(), variants.end(), [&](const Variant& v) { return v.name == name; });
+            if (it == variants.end()) return usageError("--configs: unknown configuration '" + name + "'");
+            chosen.push_back(*it);
+        }
+        variants = chosen;
+    }
+    if (extremeSizes.empty()) extremeSizes = quick ? std::vector<int>{33} : std::vector<int>{33, 65};
     std::filesystem::create_directories(out);
     const auto t0 = Clock::now();
     const double duration = quick ? 0.5 : 1.5;
@@ -446,10 +513,26 @@ int main(int argc, char** argv) {
                 if (!(k == 1e4 && h == 1.0 / 240)) configs.push_back({&hanging, 17, k, h});  // already above
 
     if (extremesOnly) configs.clear();
+    // Work items, in serial order: each part-1 configuration, then each extreme case x size x
+    // configuration. A shard runs the items i with i % N == K - 1; every row carries its serial
+    // number, so the shards' rows merge back into the serial run's order.
+    long item = -1;
+    auto mine = [&] { return ++item % shards == shard - 1; };
+    const char* timing = parallel ? "parallel" : "serial";
     std::ofstream csv(out + (extremesOnly ? "/unused.csv" : "/error_vs_runtime.csv"));
-    csv << "scene,size,stiffness,h,family,solver,ms_per_step,solve_error,traj_error_be,traj_error_fine,"
+    csv << "row,scene,size,stiffness,h,family,solver,ms_per_step,timing,solve_error,traj_error_be,traj_error_fine,"
            "max_stretch,p99_stretch,energy_growth,stable,fail_step\n";
+    long row = -1;
     for (const Config& c : configs) {
+        std::vector<Method> todo;  // the rows of this configuration
+        for (const Method& method : methods) {
+            if (method.bullet && c.scene->path) continue;  // Bullet's pins are fixed nodes
+            if (c.n > 65 && method.spec == "explicit:substeps=100") continue;
+            todo.push_back(method);
+        }
+        const long firstRow = row + 1;
+        row += long(todo.size());
+        if (!mine()) continue;
         // Above 65x65 the exact reference (a sparse Cholesky per step) would take most of the run:
         // 129x129 reports time, strain and stability, without trajectory errors.
         const bool big = c.n > 65;
@@ -457,18 +540,16 @@ int main(int argc, char** argv) {
         const bool fine = c.n == 17 && c.h >= 1.0 / 240 && (!quick || c.k == 1e4);
         std::vector<State> fineRef;
         if (fine) fineRef = referenceRun(*c.scene, c.n, c.k, c.h / 16, duration);
-        for (const Method& method : methods) {
-            if (method.bullet && c.scene->path) continue;  // Bullet's pins are fixed nodes
-            if (big && method.spec == "explicit:substeps=100") continue;
+        for (std::size_t mi = 0; mi < todo.size(); ++mi) {
             // Above 65x65 the exact reference is multigrid to 1e-10 (Cholesky takes most of the run).
-            Method m = method;
+            Method m = todo[mi];
             if (big && m.spec == "exact") m.spec = "exact:method=multigrid";
             const Row r = runOne(*c.scene, c.n, c.k, c.h, m, duration, ref, fine, fineRef, 16);
-            char line[512];
-            std::snprintf(line, sizeof line, "%s,%d,%g,%g,%s,\"%s\",%.5g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%d,%d\n",
-                          r.scene.c_str(), r.size, r.k, r.h, r.family.c_str(), r.solver.c_str(), r.ms, r.solveErr,
-                          r.trajBE, r.trajFine, r.maxStretch, r.p99Stretch, r.energyGrowth, r.stable ? 1 : 0,
-                          r.failStep);
+            char line[600];
+            std::snprintf(line, sizeof line, "%ld,%s,%d,%g,%g,%s,\"%s\",%.5g,%s,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%d,%d\n",
+                          firstRow + long(mi), r.scene.c_str(), r.size, r.k, r.h, r.family.c_str(), r.solver.c_str(),
+                          r.ms, timing, r.solveErr, r.trajBE, r.trajFine, r.maxStretch, r.p99Stretch, r.energyGrowth,
+                          r.stable ? 1 : 0, r.failStep);
             csv << line;
         }
         std::fprintf(stderr, "\r%s %dx%d k=%g h=%g done (%.0f s)      ", c.scene->name.c_str(), c.n, c.n, c.k, c.h,
@@ -476,75 +557,73 @@ int main(int argc, char** argv) {
     }
     csv.close();
 
+    const long configRows = row + 1;
     if (!doExtremes) {
+        writeShardInfo(out, shard, shards, configRows, 0);
         std::fprintf(stderr, "\nstudy done in %.0f s: %s/error_vs_runtime.csv\n",
                      std::chrono::duration<double>(Clock::now() - t0).count(), out.c_str());
         return 0;
     }
     // Part 2: the demo's flag through extreme carrier motions.
-    engine::SceneConfig demo = engine::loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/flag_vehicle.json");
     std::ofstream ext(out + "/extreme.csv");
-    ext << "case,config,stable,failures,max_stretch,late_max_stretch,max_speed\n";
-    struct Variant {
-        std::string name, solver;
-        int substeps;
-        int implicitAir = -1;  // -1: as the demo's scene says, else 0 / 1
-    };
-    std::vector<Variant> variants = {{"demo_default", demo.flag.solver.describe(), demo.flag.substeps},
-                                     {"kangcho_1", "kangcho:iterations=1", 1},
-                                     {"kangcho_1_substeps_4", "kangcho:iterations=1", 4},
-                                     {"kangcho_1_strain_10pct", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 1},
-                                     {"kangcho_1_strain_10pct_substeps_4", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 4},
-                                     {"kangcho_2", "kangcho:iterations=2", 1},
-                                     {"cg_5", "cg:iterations=5", 1},
-                                     {"desbrun", "desbrun", 1},
-                                     {"desbrun_strain_10pct", "desbrun:strain_limit=0.1,strain_passes=16", 1},
-                                     {"explicit_10", "explicit:substeps=10", 1},
-                                     {"kangcho_1_strain_10pct_implicit_air", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 1, 1}};
-    if (!quick)
-        for (const Variant& v : std::vector<Variant>{{"multigrid", "multigrid", 1, 1},
-                                                     {"multigrid_explicit_air", "multigrid", 1, 0},
-                                                     {"multigrid_1_cycle", "multigrid:cycles=1", 1, 1}})
-            variants.push_back(v);
-    if (!quick) variants.push_back({"exact", "exact", 1});
+    // peak_stretch: max_stretch without the 0.25 s after a jump of the pole (teleport);
+    // p99_stretch: the largest per-tick 99th percentile; late_max_stretch: the last second.
+    ext << "row,case,size,config,stable,failures,ms_per_tick,timing,max_stretch,peak_stretch,p99_stretch,"
+           "late_max_stretch,max_speed\n";
+    row = -1;
     for (const Extreme& x : extremes())
-        for (const Variant& v : variants) {
-            engine::SceneConfig s = demo;
-            s.flag.solver = configOf(v.solver);
-            s.flag.substeps = v.substeps;
-            if (v.implicitAir >= 0) s.flag.implicitAir = v.implicitAir == 1;
-            s.flag.mass *= x.massScale;
-            s.air.wind = Vec3(x.wind, 0, 0);
-            engine::PoleMount mount;
-            mount.base = Vec3(0, 0, 0);
-            mount.height = demo.vehicle.poleHeight;
-            engine::Flag flag(s, mount, x.carrier(0));
-            const double h = 1.0 / s.physicsHz;
-            // Stable: finite and bounded throughout (positions within 100 m of the pole, speeds
-            // under 1000 m/s), no failed cloth step, and strain back under 50% over the last
-            // second: a teleport stretches the springs at the pole for a step by definition;
-            // what matters is that the flag recovers instead of blowing up.
-            double maxStretch = 0, maxSpeed = 0, lateStretch = 0;
-            bool stable = true;
-            for (int k = 1; k * h <= x.duration + 1e-9; ++k) {
-                const engine::RigidFrame c = x.carrier(k * h);
-                flag.tick(h, c, {flag.poleCollider(c)});
-                const cloth::Diagnostics d = cloth::measure(flag.model(), {}, flag.state(), true);
-                maxStretch = std::max(maxStretch, d.maxStretch);
-                if (k * h > x.duration - 1) lateStretch = std::max(lateStretch, d.maxStretch);
-                for (cloth::Index i = 0; i < flag.model().particleCount(); ++i)
-                    maxSpeed = std::max(maxSpeed, (flag.state().v.col(i) - c.linearVelocity).norm());
-                cloth::StabilityLimits limits;
-                limits.maxStretch = 1e9;  // judged on the last second below
-                if (cloth::instability(d, flag.state(), c.point(Vec3(0, mount.height, 0)), limits)) stable = false;
+        for (const int size : extremeSizes)
+            for (const Variant& v : variants) {
+                ++row;
+                if (!mine()) continue;
+                engine::SceneConfig s = demo;
+                s.flag.solver = configOf(v.solver);
+                s.flag.substeps = v.substeps;
+                if (v.implicitAir >= 0) s.flag.implicitAir = v.implicitAir == 1;
+                // The demo's flag at another resolution: same size, mass and stiffness, same aspect.
+                s.flag.ny = int(std::lround(1 + (size - 1) * double(demo.flag.ny - 1) / (demo.flag.nx - 1)));
+                s.flag.nx = size;
+                s.flag.mass *= x.massScale;
+                s.air.wind = Vec3(x.wind, 0, 0);
+                engine::PoleMount mount;
+                mount.base = Vec3(0, 0, 0);
+                mount.height = demo.vehicle.poleHeight;
+                engine::Flag flag(s, mount, x.carrier(0));
+                const double h = 1.0 / s.physicsHz;
+                // Stable: finite and bounded throughout (positions within 100 m of the pole, speeds
+                // under 1000 m/s), no failed cloth step, and strain back under 50% over the last
+                // second: a teleport stretches the springs at the pole for a step by definition;
+                // what matters is that the flag recovers instead of blowing up.
+                double maxStretch = 0, peakStretch = 0, p99 = 0, maxSpeed = 0, lateStretch = 0;
+                std::vector<double> tickMs;
+                bool stable = true;
+                for (int k = 1; k * h <= x.duration + 1e-9; ++k) {
+                    const engine::RigidFrame c = x.carrier(k * h);
+                    const auto tick0 = Clock::now();
+                    flag.tick(h, c, {flag.poleCollider(c)});
+                    tickMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - tick0).count());
+                    const cloth::Diagnostics d = cloth::measure(flag.model(), {}, flag.state(), true);
+                    maxStretch = std::max(maxStretch, d.maxStretch);
+                    if (!(x.jumpAt >= 0 && k * h >= x.jumpAt && k * h < x.jumpAt + 0.25))
+                        peakStretch = std::max(peakStretch, d.maxStretch);
+                    p99 = std::max(p99, d.p99Stretch);
+                    if (k * h > x.duration - 1) lateStretch = std::max(lateStretch, d.maxStretch);
+                    for (cloth::Index i = 0; i < flag.model().particleCount(); ++i)
+                        maxSpeed = std::max(maxSpeed, (flag.state().v.col(i) - c.linearVelocity).norm());
+                    cloth::StabilityLimits limits;
+                    limits.maxStretch = 1e9;  // judged on the last second below
+                    if (cloth::instability(d, flag.state(), c.point(Vec3(0, mount.height, 0)), limits)) stable = false;
+                }
+                stable = stable && lateStretch < 0.5;
+                stable = stable && flag.failures() == 0;
+                std::nth_element(tickMs.begin(), tickMs.begin() + tickMs.size() / 2, tickMs.end());
+                char line[400];
+                std::snprintf(line, sizeof line, "%ld,%s,%d,%s,%d,%d,%.4g,%s,%.4g,%.4g,%.4g,%.4g,%.4g\n", row, x.name.c_str(),
+                              size, v.name.c_str(), stable ? 1 : 0, flag.failures(), tickMs[tickMs.size() / 2], timing,
+                              maxStretch, peakStretch, p99, lateStretch, maxSpeed);
+                ext << line;
             }
-            stable = stable && lateStretch < 0.5;
-            stable = stable && flag.failures() == 0;
-            char line[256];
-            std::snprintf(line, sizeof line, "%s,%s,%d,%d,%.4g,%.4g,%.4g\n", x.name.c_str(), v.name.c_str(),
-                          stable ? 1 : 0, flag.failures(), maxStretch, lateStretch, maxSpeed);
-            ext << line;
-        }
+    writeShardInfo(out, shard, shards, configRows, row + 1);
     std::fprintf(stderr, "\nstudy done in %.0f s: %s/error_vs_runtime.csv, %s/extreme.csv\n",
                  std::chrono::duration<double>(Clock::now() - t0).count(), out.c_str(), out.c_str());
     return 0;

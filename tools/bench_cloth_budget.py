@@ -1,0 +1,29 @@
+#!/usr/bin/python3
+"""The cloth's share of a demo frame: per frame, air + cloth_forces + cloth_solve + collision
+(profile.csv of a flagsim run), mean and 99th percentile, against a real-time budget.
+
+    tools/bench_cloth_budget.py LABEL:BUDGET_MS:PROFILE_CSV ...
+"""
+import csv
+import sys
+
+PHASES = ["air", "cloth_forces", "cloth_solve", "collision"]
+
+
+def main():
+    print("| run | frames | cloth mean (ms/frame) | cloth p99 | budget | within |")
+    print("|---|---|---|---|---|---|")
+    for arg in sys.argv[1:]:
+        label, budget, path = arg.split(":", 2)
+        with open(path, newline="") as f:
+            rows = list(csv.DictReader(f))
+        sums = sorted(sum(float(r.get(p) or 0) for p in PHASES) for r in rows)
+        if not sums:
+            sys.exit(f"{path}: no frames")
+        mean = sum(sums) / len(sums)
+        p99 = sums[min(len(sums) - 1, int(0.99 * len(sums)))]
+        print(f"| {label} | {len(sums)} | {mean:.2f} | {p99:.2f} | {float(budget):g} | {'yes' if mean <= float(budget) else 'no'} |")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,79 @@
+#!/usr/bin/python3
+"""Joins the CSVs of study shards (cloth_study --shard K/N) into the CSVs a serial run writes.
+
+    tools/study/merge_shards.py OUT SHARD_DIR...
+
+Every row carries its serial number (column `row`); the merge sorts by it and refuses a set of
+shards that misses a row or holds one twice. Writes OUT/error_vs_runtime.csv and OUT/extreme.csv
+(each only if the shards have it), through a temporary file and a rename.
+"""
+import csv
+import json
+import os
+import sys
+
+FILES = ["error_vs_runtime.csv", "extreme.csv"]
+
+
+def shard_info(shard_dirs):
+    """The shards' shard.json: they must be parts 1..N of one N-way split of the same run."""
+    infos = []
+    for d in shard_dirs:
+        try:
+            with open(os.path.join(d, "shard.json")) as f:
+                infos.append(json.load(f))
+        except (OSError, ValueError) as e:
+            sys.exit(f"{d}/shard.json: cannot read it ({e}); is {d} a cloth_study --shard output?")
+    n = infos[0]["of"]
+    parts = sorted(i["shard"] for i in infos)
+    if any(i["of"] != n or i["rows"] != infos[0]["rows"] for i in infos) or parts != list(range(1, n + 1)):
+        sys.exit(f"shards {parts} of {[i['of'] for i in infos]}: not the parts 1..{n} of one run")
+    return infos[0]["rows"]
+
+
+def merge(name, shard_dirs, out, expected):
+    header, rows = None, []
+    present = [d for d in shard_dirs if os.path.isfile(os.path.join(d, name))]
+    if not present:
+        return None
+    for d in present:
+        with open(os.path.join(d, name), newline="") as f:
+            reader = csv.reader(f)
+            h = next(reader)
+            if header is not None and h != header:
+                sys.exit(f"{d}/{name}: columns {h} differ from {header}")
+            header = h
+            rows += [r for r in reader if r]
+    numbers = sorted(int(r[0]) for r in rows)
+    if numbers != list(range(expected)):
+        seen, dupes = set(), set()
+        for n in numbers:
+            (dupes if n in seen else seen).add(n)
+        missing = sorted(set(range(expected)) - seen)
+        sys.exit(f"{name}: the shards do not make one run (missing rows {missing[:10]}, twice {sorted(dupes)[:10]})")
+    rows.sort(key=lambda r: int(r[0]))
+    tmp = os.path.join(out, name + ".tmp")
+    with open(tmp, "w", newline="") as f:
+        # The serial run's quoting: the solver spec column is quoted, nothing else.
+        quoted = header.index("solver") if "solver" in header else -1
+        f.write(",".join(header) + "\n")
+        for r in rows:
+            f.write(",".join(f'"{v}"' if i == quoted else v for i, v in enumerate(r)) + "\n")
+    os.replace(tmp, os.path.join(out, name))
+    return len(rows)
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    out, shard_dirs = sys.argv[1], sys.argv[2:]
+    expected = shard_info(shard_dirs)
+    os.makedirs(out, exist_ok=True)
+    for name in FILES:
+        n = merge(name, shard_dirs, out, expected[name])
+        if n is not None:
+            print(f"{out}/{name}: {n} rows from {len(shard_dirs)} shards")
+
+
+if __name__ == "__main__":
+    main()
