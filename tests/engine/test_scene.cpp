@@ -33,6 +33,15 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     EXPECT_EQ(demo.flag.nx, 33);
     EXPECT_EQ(demo.flag.solver.name, "kangcho");
     EXPECT_EQ(demo.flag.solver.get<cloth::KangChoSettings>().iterations, 1);
+    // The HD scene is the same scene with a 65x65 flag.
+    SceneConfig hd = loadScene(kScenes + "flag_vehicle_hd.json");
+    EXPECT_EQ(hd.flag.nx, 65);
+    EXPECT_EQ(hd.flag.ny, 65);
+    hd.flag.nx = hd.flag.ny = 33;
+    hd.name = demo.name;
+    hd.description = demo.description;
+    EXPECT_EQ(hd.flag.solver.describe(), demo.flag.solver.describe());
+    EXPECT_EQ(hd.subsystems, demo.subsystems);
 }
 
 TEST(Scene, SolverKeysFollowTheSolverTable) {
