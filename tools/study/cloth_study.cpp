@@ -30,6 +30,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "cloth/diagnostics.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
@@ -324,6 +326,41 @@ std::vector<Extreme> extremes() {
 
 }  // namespace
 
+// The flag and the pole motion of one configuration, for the Newton harness
+// (tools/study/newton_study.py): the same particles, masses, springs, triangles and pins, and every
+// pin's target at the end of every step.
+void exportForNewton(const std::string& dir, const Scene& scene, int n, double k, double h, double duration) {
+    cloth::HangingFlagDesc d;
+    d.nx = d.ny = n;
+    d.stiffness = {k, k, k / 10};
+    const cloth::HangingFlag flag = cloth::makeHangingFlag(d);
+    const cloth::Model& m = flag.model;
+    const State start = startState(m, scene);
+    const int steps = int(std::lround(duration / h));
+    nlohmann::json j;
+    j["scene"] = scene.name;
+    j["size"] = n;
+    j["stiffness"] = k;
+    j["h"] = h;
+    j["steps"] = steps;
+    j["gravity"] = {0.0, -9.81, 0.0};
+    for (cloth::Index i = 0; i < m.particleCount(); ++i) {
+        j["rest_positions"].push_back({start.x(0, i), start.x(1, i), start.x(2, i)});
+        j["masses"].push_back(m.masses()[i]);
+    }
+    for (const cloth::Spring& sp : m.springs()) j["springs"].push_back({sp.i, sp.j, sp.k, sp.rest, cloth::toString(sp.kind)});
+    for (const cloth::Triangle& t : m.triangles()) j["triangles"].push_back({t[0], t[1], t[2]});
+    for (const cloth::Pin& p : pinsAt(m, scene, 0)) j["pinned"].push_back(p.particle);
+    for (int s = 0; s < steps; ++s) {
+        nlohmann::json targets = nlohmann::json::array();
+        for (const cloth::Pin& p : pinsAt(m, scene, (s + 1) * h)) targets.push_back({p.x.x(), p.x.y(), p.x.z()});
+        j["pin_positions"].push_back(std::move(targets));
+    }
+    const std::string path = dir + "/" + scene.name + "_" + std::to_string(n) + ".json";
+    std::ofstream(path + ".tmp") << j.dump() << "\n";
+    std::filesystem::rename(path + ".tmp", path);
+}
+
 const char* kUsage = R"(usage: cloth_study [options]
 
 The solver study: error against run time on a hanging flag and on a flag following the demo's
@@ -343,6 +380,8 @@ vehicle path, a scan over stiffness and time step, and the demo's flag in six ex
                        its aspect)
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
                        numbers; tools/study/merge_shards.py joins the parts)
+  --export-newton DIR  write the flag and pole motion of every k=1e4, h=1/240 configuration as JSON
+                       for tools/study/newton_study.py, then stop
   --parallel           mark the timing columns as taken while other shards ran (timing=parallel)
   --help               this text
 )";
@@ -372,7 +411,7 @@ int main(int argc, char** argv) {
     bool quick = false, extremesOnly = false, scan = true, doExtremes = true, parallel = false;
     int shard = 1, shards = 1;
     std::vector<int> extremeSizes;  // default: 33 and 65 (--quick: 33)
-    std::string out = "out/study";
+    std::string out = "out/study", exportDir;
     std::vector<std::string> sceneFilter, solverSpecs, variantFilter;
     std::vector<int> sizeOverride;
     auto usageError = [](const std::string& why) {
@@ -391,6 +430,7 @@ int main(int argc, char** argv) {
         else if (a == "--no-scan") scan = false;
         else if (a == "--no-extremes") doExtremes = false;
         else if (a == "--parallel") parallel = true;
+        else if (a == "--export-newton" && hasValue) exportDir = argv[++i];
         else if (a == "--configs" && hasValue) variantFilter = split(argv[++i], ',');
         else if (a == "--shard" && hasValue) {
             const std::string v = argv[++i];
@@ -512,6 +552,13 @@ int main(int argc, char** argv) {
                                   : std::vector<double>{1.0 / 1000, 1.0 / 240, 1.0 / 60, 1.0 / 30, 1.0 / 15})
                 if (!(k == 1e4 && h == 1.0 / 240)) configs.push_back({&hanging, 17, k, h});  // already above
 
+    if (!exportDir.empty()) {
+        std::filesystem::create_directories(exportDir);
+        for (const Config& c : configs)
+            if (c.k == 1e4 && c.h == 1.0 / 240) exportForNewton(exportDir, *c.scene, c.n, c.k, c.h, duration);
+        std::fprintf(stderr, "flag and pole motion written to %s\n", exportDir.c_str());
+        return 0;
+    }
     if (extremesOnly) configs.clear();
     // Work items, in serial order: each part-1 configuration, then each extreme case x size x
     // configuration. A shard runs the items i with i % N == K - 1; every row carries its serial
