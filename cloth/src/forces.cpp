@@ -1,8 +1,20 @@
 #include "cloth/forces.h"
 
 #include "cloth/system.h"
+#include "kernels.h"
 
 namespace cloth {
+
+Vec3 springForce(const Vec3& xi, const Vec3& xj, Scalar k, Scalar rest) {
+    const SpringTerms<Scalar> t = springTerms(xi, xj, k, rest, false);
+    return t.fm * Vec3(t.ux, t.uy, t.uz);
+}
+
+Mat3 springJacobian(const Vec3& xi, const Vec3& xj, Scalar k, Scalar rest, bool compressionRule) {
+    const SpringTerms<Scalar> t = springTerms(xi, xj, k, rest, compressionRule);
+    const Vec3 u(t.ux, t.uy, t.uz);
+    return t.a * Mat3::Identity() + t.b * (u * u.transpose());
+}
 
 void computeForces(const Model& model, const Environment& env, const State& state,
                    const Points* externalForce, Points& f) {

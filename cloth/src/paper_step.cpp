@@ -3,7 +3,7 @@
 // what this library adds to the paper (pins, drag, implicit air). This is kangcho's
 // impl=reference, and its system is the one exact, cg and chebyshev solve (buildSystem); the fast
 // paths (stencil_kangcho.cpp, fast_kangcho.cpp) and multigrid compute the same numbers from the
-// same kernels (cloth/forces.h, kernels.h) in other layouts, and the tests compare them.
+// same kernels (kernels.h) in other layouts, and the tests compare them.
 
 #include "cloth/forces.h"
 #include "cloth/solver.h"

@@ -1,0 +1,682 @@
+#!/usr/bin/env python3
+"""Newton's cloth solvers on the study's flag and pole motion, as rows of the study's CSV.
+
+    tools/study/newton_study.py IN_DIR OUT_CSV [--solvers vbd,xpbd,style3d] [--max-size N]
+
+IN_DIR holds the JSON files of ``cloth_study --export-newton DIR`` (one per configuration: the
+particles, masses, springs, triangles, pinned particles and every pin's target at the end of every
+step). Each file is run with each Newton solver (NVIDIA Newton 1.8.0 on Warp 1.19.0, CPU device,
+pins from tools/study/requirements-newton.txt; install them in a venv, e.g. .venv-newton) and
+gives one row of OUT_CSV, with the columns of the study's error_vs_runtime.csv less ``row``.
+
+A solver is named as in the study, ``name[:key=value,...]``; ``--solvers`` takes a comma- (or
+semicolon-) separated list, e.g. ``vbd,xpbd:iterations=10,substeps=4,style3d``. The row's
+``solver`` column names every setting used, defaults included.
+
+Stepping
+--------
+One study step of length h is ``substeps`` Newton steps of h/substeps (default 1, so a step of
+Newton is a step of ours). Pinned particles have mass 0 and the ACTIVE flag cleared, so that no
+solver integrates them (VBD: particle_vbd_kernels.forward_step skips inactive or zero inverse mass
+particles; XPBD: solver.integrate_particles and xpbd.kernels.apply_particle_deltas skip inactive
+ones; Style3D: kernels.deactivate_zero_mass_particles_kernel / init_step_kernel). Before each
+Newton step the harness writes their position (the pin's target at the end of that step, linearly
+interpolated between study steps when substeps > 1) and velocity ((target - previous) / dt) into
+the input state; the springs and triangles see the pins there during the whole solve, as in our
+backward Euler, and the pins land exactly on their targets (checked; a miss above 1e-6 m is noted).
+No collisions, air or ground: no Contacts are passed (``contacts=None``), particle radii are 0 (so
+XPBD's particle-particle contacts, which run when ``model.particle_max_radius > 0``, are off), VBD's
+self contact stays at its default (off), and Style3D's collision object is removed
+(``solver.collision = None``, its documented switch). Spring and triangle damping are 0.
+
+Settings (defaults of Newton unless said):
+- vbd: ``SolverVBD(model, iterations=10)`` (Newton's default iteration count). Newton's
+  ``ModelBuilder.color()`` colours particles only by triangles, bending edges and tetrahedra, not
+  springs, so a springs-only model would come out as one colour (no Gauss-Seidel ordering between
+  neighbours). The harness colours the spring graph itself with ``newton.utils.color_graph`` (the
+  same colouring routine) and passes it with ``ModelBuilder.set_coloring``.
+- xpbd: ``SolverXPBD(model, iterations=2)`` is Newton's default (solver_xpbd.py,
+  ``iterations: int = 2``). XPBD sums the spring corrections of an iteration (Jacobi, no
+  averaging), so with a particle of ~1 g and k = 1e4 N/m every spring is nearly a hard distance
+  constraint (alpha = 1/(k dt^2) ~ 5.8 against w_i + w_j ~ 1e3..5e3) and 2 iterations leave a lot of
+  stretch. The default stays 2 (Newton's); ``xpbd:iterations=10`` is the count Newton's own cloth
+  examples use (example_cloth_hanging.py).
+- style3d: ``SolverStyle3D(model, config=SolverStyle3D.Config())``: iterations=10 non-linear and
+  linear_iterations=10 PCG iterations (its defaults).
+
+Stiffness matching
+------------------
+The JSON's springs are used as they are (i, j, k, rest, kind; bend springs have k/10).
+
+XPBD and VBD offer springs, so both get our springs directly: ``ModelBuilder.add_spring(i, j,
+ke=k, kd=0, control=0)`` with the rest length overwritten by ours
+(``builder.spring_rest_length[s] = rest``; add_spring would take the distance in the start pose).
+Same model, same units (N/m): XPBD uses ke as compliance alpha = 1/(ke dt^2)
+(xpbd/kernels.py ``solve_springs``); VBD uses force ke (l0 - l)/l (x_i - x_j) and its Hessian
+(vbd/particle_vbd_kernels.py ``evaluate_spring_force_and_hessian_both_vertices``). All spring kinds,
+bend springs included, so XPBD and VBD solve exactly our energy (with their own iteration).
+
+Style3D has no springs (SolverStyle3D.step evaluates only ``eval_stretch_kernel`` on triangles and
+``eval_bend_kernel`` on edges; springs in the model are ignored), so its membrane is matched to our
+springs. Its stretch energy per triangle (style3d/kernels.py ``eval_stretch_kernel``, after Baraff and
+Witkin) is, with F = [Fu Fv] the deformation gradient in panel (rest) space and A the rest area,
+
+    E = A * ( ku/2 (|Fu| - 1)^2 + kv/2 (|Fv| - 1)^2 + ks/2 (Fu . Fv)^2 ),
+
+so ku, kv are stretch stiffness per unit width (E*t, N/m) along the panel axes u, v, and ks is the
+shear stiffness (G*t, N/m). The parameters enter through
+``style3d.add_cloth_mesh(..., tri_aniso_ke=wp.vec3(ku, kv, ks))`` -> custom attribute
+``style3d:tri_aniso_ke`` -> ``eval_stretch_kernel`` (force) and
+``PDMatrixBuilder.add_stretch_constraints`` (builder.py, the constant PD matrix
+area * ((ku + ks) dFu dFu + (kv + ks) dFv dFv)). The panel is our rest grid: u along a row (away
+from the pole), v along a column, u = c*dx, v = r*dy with dx, dy our structural rest lengths, so the
+panel axes are the grid axes.
+
+For a regular grid with structural springs k_s along u (spacing dx, rows dy apart) and along v, and
+both diagonals of every cell as shear springs k_d, a uniform small strain e stores per cell
+(area dx*dy) the energy sum k l^2 (n.e.n)^2 / 2 over its springs. Per unit area:
+
+    structural along u: k_s dx^2 e_uu^2 / (2 dx dy)  -> E*t along u = ku = k_s * dx / dy
+    structural along v:                              -> kv = k_s * dy / dx
+    two diagonals, simple shear gamma = 2 e_uv:      -> G*t = ks = 2 k_d dx dy / (dx^2 + dy^2)
+
+which is what the harness uses (``membrane=springs``, the default). On a square grid this is
+ku = kv = k_s and ks = k_d: "E*t ~ k for the structural springs, shear ~ k for the shear springs".
+It leaves out what the diagonals and bend springs add to the normal stiffness: the diagonals add
+2 k_d dx^3 / ((dx^2 + dy^2) dy) to C_uuuu (and a Poisson-like C_uuvv = ks that Baraff-Witkin cannot
+hold) and the bend springs (length 2 dx) 4 k_b dx / dy. ``style3d:membrane=full`` adds those two
+terms to ku (and the like to kv), i.e. ku = C_uuuu of all our springs. For the study's 17x17 flag
+(1.5 m x 1 m, dx = 0.09375, dy = 0.0625, k_s = k_d = 1e4, k_b = 1e3): springs: ku = 1.5e4,
+kv = 6.7e3, ks = 9.2e3 N/m; full: ku = 4.2e4, kv = 1.3e4 N/m. Our springs are a stiffer membrane
+in pure stretch than ``membrane=springs``, so Style3D's stretch is not comparable one-to-one.
+
+Bending: a skip (bend) spring has no bending stiffness at first order about the flat state (a
+curvature kappa shortens it by kappa^2 dx^3 / 3, an energy in kappa^4), so Style3D's bending
+(Bergou et al. quadratic model, ``edge_aniso_ke``) is set to 0.
+
+Metrics (from the particle positions after every study step, with OUR springs list)
+-------------------------------------------------------------------------------------
+- max_stretch: max over steps and over structural and shear springs of max(L/rest - 1, 0).
+- p99_stretch: max over steps of the 99th percentile (nearest rank, as cloth/diagnostics.cpp) over
+  those springs of max(L/rest - 1, 0).
+- ms_per_step: median wall time of one study step (pins written, all substeps, wp.synchronize()).
+- stable: 1 if every position is finite, within 100 m of the first pin (its target at that step),
+  every speed (|x_s - x_{s-1}| / h, from positions, so the same for every solver) < 1000 m/s, and
+  the max stretch over the last 0.25 s < 0.5. fail_step: the first step breaking this, -1 if none.
+  The run stops at the first step that is non-finite, too far or too fast (as cloth_study does);
+  max_stretch and p99_stretch then cover the steps before it.
+- timing = warp_cpu; solve_error, traj_error_be, traj_error_fine, energy_growth = nan.
+A solver that cannot run a configuration still gives its row: stable = 0, metrics nan, the reason
+in ``note``.
+
+Warp compiles its kernels on first use (LLVM, CPU) and caches them in ~/.cache/warp. On the
+study's 2-core machine, the whole of vbd, xpbd and style3d on a 9x9 and a 17x17 input of 240 steps
+took about 5 min with an empty cache (compilation) and about 25 s with the cache filled.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+import traceback
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+COLUMNS = [
+    "scene", "size", "stiffness", "h", "family", "solver", "ms_per_step", "timing", "solve_error",
+    "traj_error_be", "traj_error_fine", "max_stretch", "p99_stretch", "energy_growth", "stable",
+    "fail_step", "note",
+]
+REQUIRED_FIELDS = [
+    "scene", "size", "stiffness", "h", "steps", "gravity", "rest_positions", "masses", "springs",
+    "triangles", "pinned", "pin_positions",
+]
+STRETCH_KINDS = ("structural", "shear")
+MAX_DISTANCE = 100.0  # m from the first pin
+MAX_SPEED = 1000.0  # m/s
+LATE_WINDOW = 0.25  # s
+LATE_MAX_STRETCH = 0.5
+PIN_TOLERANCE = 1e-6  # m
+
+
+class InputError(Exception):
+    pass
+
+
+# ------------------------------------------------------------------------------------------------
+# Input
+
+
+@dataclass
+class Case:
+    path: Path
+    scene: str
+    size: int
+    stiffness: float
+    h: float
+    steps: int
+    gravity: np.ndarray  # (3,)
+    rest: np.ndarray  # (n, 3) start positions
+    masses: np.ndarray  # (n,)
+    spring_ij: np.ndarray  # (m, 2) int
+    spring_k: np.ndarray  # (m,)
+    spring_rest: np.ndarray  # (m,)
+    spring_kind: np.ndarray  # (m,) str
+    triangles: np.ndarray  # (t, 3) int
+    pinned: np.ndarray  # (p,) int
+    pin_targets: np.ndarray  # (steps, p, 3): target at the end of step s
+
+    @property
+    def n(self) -> int:
+        return len(self.masses)
+
+
+def load_case(path: Path) -> Case:
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, ValueError) as e:
+        raise InputError(f"{path}: cannot read JSON: {e}") from e
+    if not isinstance(data, dict):
+        raise InputError(f"{path}: not a JSON object")
+    for name in REQUIRED_FIELDS:
+        if name not in data:
+            raise InputError(f"{path}: missing field '{name}'")
+    try:
+        springs = data["springs"]
+        case = Case(
+            path=path,
+            scene=str(data["scene"]),
+            size=int(data["size"]),
+            stiffness=float(data["stiffness"]),
+            h=float(data["h"]),
+            steps=int(data["steps"]),
+            gravity=np.asarray(data["gravity"], dtype=float).reshape(3),
+            rest=np.asarray(data["rest_positions"], dtype=float).reshape(-1, 3),
+            masses=np.asarray(data["masses"], dtype=float),
+            spring_ij=np.asarray([s[:2] for s in springs], dtype=np.int64).reshape(-1, 2),
+            spring_k=np.asarray([s[2] for s in springs], dtype=float),
+            spring_rest=np.asarray([s[3] for s in springs], dtype=float),
+            spring_kind=np.asarray([str(s[4]) for s in springs]),
+            triangles=np.asarray(data["triangles"], dtype=np.int64).reshape(-1, 3),
+            pinned=np.asarray(data["pinned"], dtype=np.int64).reshape(-1),
+            pin_targets=np.asarray(data["pin_positions"], dtype=float),
+        )
+    except (TypeError, ValueError, IndexError) as e:
+        raise InputError(f"{path}: malformed field: {e}") from e
+    check_case(case)
+    return case
+
+
+def check_case(c: Case) -> None:
+    def bad(field_name: str, why: str):
+        raise InputError(f"{c.path}: field '{field_name}': {why}")
+
+    n = c.n
+    if len(c.rest) != n:
+        bad("rest_positions", f"{len(c.rest)} positions for {n} masses")
+    if n != c.size * c.size:
+        bad("size", f"size {c.size} but {n} particles (expected size*size, row-major)")
+    for name, idx in (("springs", c.spring_ij), ("triangles", c.triangles), ("pinned", c.pinned)):
+        if idx.size and (idx.min() < 0 or idx.max() >= n):
+            bad(name, "particle index out of range")
+    if c.pin_targets.shape != (c.steps, len(c.pinned), 3):
+        bad("pin_positions", f"shape {c.pin_targets.shape}, expected ({c.steps}, {len(c.pinned)}, 3)")
+    if not len(c.pinned):
+        bad("pinned", "no pinned particle")
+    if c.h <= 0 or c.steps <= 0:
+        bad("h" if c.h <= 0 else "steps", "must be positive")
+    unknown = set(c.spring_kind) - {"structural", "shear", "bend"}
+    if unknown:
+        bad("springs", f"unknown spring kind(s) {sorted(unknown)}")
+
+
+# ------------------------------------------------------------------------------------------------
+# Metrics
+
+
+def stretch_per_spring(x: np.ndarray, ij: np.ndarray, rest: np.ndarray) -> np.ndarray:
+    lengths = np.linalg.norm(x[ij[:, 0]] - x[ij[:, 1]], axis=1)
+    return np.maximum(lengths / rest - 1.0, 0.0)
+
+
+def p99_nearest_rank(values: np.ndarray) -> float:
+    rank = max(int(math.ceil(0.99 * len(values))) - 1, 0)
+    return float(np.partition(values, rank)[rank])
+
+
+@dataclass
+class Metrics:
+    max_stretch: float = 0.0
+    p99_stretch: float = 0.0
+    fail_step: int = -1
+    reason: str = ""
+    late_stretch: list = field(default_factory=list)  # (step, max stretch) over the last 0.25 s
+
+
+class Monitor:
+    """Checks each step's positions and keeps the run's stretch metrics."""
+
+    def __init__(self, case: Case):
+        mask = np.isin(case.spring_kind, STRETCH_KINDS)
+        self.ij, self.rest = case.spring_ij[mask], case.spring_rest[mask]
+        self.case = case
+        self.late_from = case.steps - max(1, int(round(LATE_WINDOW / case.h)))
+        self.prev = case.rest.copy()
+        self.m = Metrics()
+
+    def step(self, s: int, x: np.ndarray) -> bool:
+        """Record step s (positions x at its end); False when the run has to stop here."""
+        c, m = self.case, self.m
+        problem = ""
+        if not np.all(np.isfinite(x)):
+            problem = "non-finite position"
+        elif np.max(np.linalg.norm(x - c.pin_targets[s, 0], axis=1)) > MAX_DISTANCE:
+            problem = f"position beyond {MAX_DISTANCE:g} m of the first pin"
+        elif np.max(np.linalg.norm(x - self.prev, axis=1)) / c.h >= MAX_SPEED:
+            problem = f"speed beyond {MAX_SPEED:g} m/s"
+        if problem:
+            m.fail_step, m.reason = s, f"step {s}: {problem}"
+            return False
+        stretch = stretch_per_spring(x, self.ij, self.rest)
+        top = float(stretch.max()) if len(stretch) else 0.0
+        m.max_stretch = max(m.max_stretch, top)
+        m.p99_stretch = max(m.p99_stretch, p99_nearest_rank(stretch) if len(stretch) else 0.0)
+        if s >= self.late_from:
+            m.late_stretch.append((s, top))
+        self.prev = x
+        return True
+
+    def finish(self) -> Metrics:
+        m = self.m
+        if m.fail_step < 0:
+            late = [(s, v) for s, v in m.late_stretch if v >= LATE_MAX_STRETCH]
+            if late:
+                m.fail_step = late[0][0]
+                m.reason = f"step {late[0][0]}: stretch {late[0][1]:.3g} >= {LATE_MAX_STRETCH} in the last {LATE_WINDOW} s"
+        return m
+
+
+# ------------------------------------------------------------------------------------------------
+# Newton models and solvers (one table, SOLVERS, below)
+
+
+def grid_spacing(case: Case) -> tuple[float, float]:
+    """Rest spacing along a row (u, away from the pole) and along a column (v)."""
+    n = case.size
+    ij = np.sort(case.spring_ij, axis=1)
+    structural = case.spring_kind == "structural"
+    du = case.spring_rest[structural & (ij[:, 1] - ij[:, 0] == 1)]
+    dv = case.spring_rest[structural & (ij[:, 1] - ij[:, 0] == n)]
+    if not len(du) or not len(dv):
+        raise ValueError("no structural springs along the grid's rows and columns")
+    return float(np.median(du)), float(np.median(dv))
+
+
+def mean_k(case: Case, kind: str) -> float:
+    k = case.spring_k[case.spring_kind == kind]
+    return float(k.mean()) if len(k) else 0.0
+
+
+def membrane_stiffness(case: Case, mode: str) -> tuple[float, float, float]:
+    """(ku, kv, ks) of Style3D's membrane matched to our springs (see the module docstring)."""
+    dx, dy = grid_spacing(case)
+    k_s, k_d, k_b = mean_k(case, "structural"), mean_k(case, "shear"), mean_k(case, "bend")
+    diag2 = dx * dx + dy * dy
+    ku, kv = k_s * dx / dy, k_s * dy / dx
+    ks = 2.0 * k_d * dx * dy / diag2
+    if mode == "full":
+        ku += 2.0 * k_d * dx**3 / (diag2 * dy) + 4.0 * k_b * dx / dy
+        kv += 2.0 * k_d * dy**3 / (diag2 * dx) + 4.0 * k_b * dy / dx
+    elif mode != "springs":
+        raise ValueError(f"membrane must be 'springs' or 'full', not '{mode}'")
+    return ku, kv, ks
+
+
+def new_builder(case: Case):
+    import newton
+
+    return newton.ModelBuilder(up_axis=newton.Axis.Y, gravity=tuple(case.gravity))
+
+
+def make_kinematic(builder, case: Case) -> None:
+    """Pinned particles: mass 0 and not ACTIVE, so that no solver moves them."""
+    import newton
+
+    for p in case.pinned:
+        builder.particle_mass[p] = 0.0
+        builder.particle_flags[p] = int(builder.particle_flags[p]) & ~int(newton.ParticleFlags.ACTIVE)
+
+
+def build_springs(case: Case, settings: dict, color: bool):
+    """Particles and our springs as they are (XPBD, VBD)."""
+    import warp as wp
+
+    import newton.utils
+
+    b = new_builder(case)
+    for x, m in zip(case.rest, case.masses):
+        b.add_particle(pos=wp.vec3(*x), vel=wp.vec3(0.0, 0.0, 0.0), mass=float(m), radius=0.0)
+    for (i, j), k, rest in zip(case.spring_ij, case.spring_k, case.spring_rest):
+        b.add_spring(int(i), int(j), ke=float(k), kd=0.0, control=0.0)
+        b.spring_rest_length[-1] = float(rest)
+    make_kinematic(b, case)
+    if color:
+        edges = wp.array(np.sort(case.spring_ij, axis=1).astype(np.int32), dtype=int, device="cpu")
+        b.set_coloring(newton.utils.color_graph(case.n, edges))
+    return b.finalize(device="cpu")
+
+
+def panel_coordinates(case: Case) -> np.ndarray:
+    """Our rest grid in 2D: u = column * dx, v = row * dy (row-major, column 0 at the pole)."""
+    dx, dy = grid_spacing(case)
+    rows, cols = np.divmod(np.arange(case.n), case.size)
+    return np.stack([cols * dx, rows * dy], axis=1)
+
+
+def build_style3d(case: Case, settings: dict):
+    import warp as wp
+
+    import newton
+    from newton.solvers import style3d
+
+    b = new_builder(case)
+    newton.solvers.SolverStyle3D.register_custom_attributes(b)
+    panel = panel_coordinates(case)
+    tris = case.triangles.copy()
+    p0, p1, p2 = panel[tris[:, 0]], panel[tris[:, 1]], panel[tris[:, 2]]
+    signed = (p1 - p0)[:, 0] * (p2 - p0)[:, 1] - (p1 - p0)[:, 1] * (p2 - p0)[:, 0]
+    tris[signed < 0] = tris[signed < 0][:, [0, 2, 1]]  # Style3D drops triangles of negative panel area
+    ku, kv, ks = membrane_stiffness(case, settings["membrane"])
+    style3d.add_cloth_mesh(
+        b,
+        pos=wp.vec3(0.0, 0.0, 0.0),
+        rot=wp.quat_identity(),
+        vel=wp.vec3(0.0, 0.0, 0.0),
+        vertices=case.rest.tolist(),
+        indices=tris.reshape(-1).tolist(),
+        density=0.0,
+        panel_verts=panel.tolist(),
+        tri_aniso_ke=wp.vec3(ku, kv, ks),
+        edge_aniso_ke=wp.vec3(0.0, 0.0, 0.0),
+        tri_kd=0.0,
+        edge_kd=0.0,
+        particle_radius=0.0,
+    )
+    if len(b.tri_indices) != len(tris):
+        raise ValueError(f"Style3D kept {len(b.tri_indices)} of {len(tris)} triangles (degenerate panel triangles)")
+    b.particle_mass[:] = case.masses.tolist()
+    make_kinematic(b, case)
+    return b.finalize(device="cpu")
+
+
+def make_vbd(model, settings: dict):
+    import newton
+
+    return newton.solvers.SolverVBD(model, iterations=settings["iterations"])
+
+
+def make_xpbd(model, settings: dict):
+    import newton
+
+    return newton.solvers.SolverXPBD(model, iterations=settings["iterations"])
+
+
+def make_style3d(model, settings: dict):
+    import newton
+
+    solver_cls = newton.solvers.SolverStyle3D
+    config = solver_cls.Config(iterations=settings["iterations"], linear_iterations=settings["linear_iterations"])
+    solver = solver_cls(model, config=config)
+    solver.collision = None  # no collisions (the solver's documented switch)
+    return solver
+
+
+@dataclass(frozen=True)
+class NewtonSolver:
+    family: str
+    defaults: dict  # every setting, in label order; substeps is the harness's
+    build: Callable  # (case, settings) -> Model
+    make: Callable  # (model, settings) -> solver
+
+
+SOLVERS = {
+    "vbd": NewtonSolver(
+        "newton_vbd", {"iterations": 10, "substeps": 1}, lambda c, s: build_springs(c, s, color=True), make_vbd
+    ),
+    "xpbd": NewtonSolver(
+        "newton_xpbd", {"iterations": 2, "substeps": 1}, lambda c, s: build_springs(c, s, color=False), make_xpbd
+    ),
+    "style3d": NewtonSolver(
+        "newton_style3d",
+        {"iterations": 10, "linear_iterations": 10, "membrane": "springs", "substeps": 1},
+        build_style3d,
+        make_style3d,
+    ),
+}
+
+
+@dataclass
+class SolverChoice:
+    name: str
+    spec: NewtonSolver
+    settings: dict
+
+    @property
+    def label(self) -> str:
+        return self.name + ":" + ",".join(f"{k}={v}" for k, v in self.settings.items())
+
+
+def parse_solver(text: str) -> SolverChoice:
+    name, _, rest = text.partition(":")
+    if name not in SOLVERS:
+        raise ValueError(f"unknown solver '{name}' (known: {', '.join(SOLVERS)})")
+    spec = SOLVERS[name]
+    settings = dict(spec.defaults)
+    for item in filter(None, rest.split(",")):
+        key, eq, value = item.partition("=")
+        if not eq:
+            raise ValueError(f"solver '{name}': parameter '{item}' is not key=value")
+        if key not in settings:
+            raise ValueError(f"solver '{name}' has no parameter '{key}' (known: {', '.join(settings)})")
+        default = settings[key]
+        try:
+            settings[key] = type(default)(value)
+        except ValueError:
+            raise ValueError(f"solver '{name}' parameter {key} has a bad value '{value}'") from None
+        if isinstance(default, int) and settings[key] < 1:
+            raise ValueError(f"solver '{name}' parameter {key} must be at least 1")
+    return SolverChoice(name, spec, settings)
+
+
+def split_solver_list(text: str) -> list[str]:
+    """'vbd,xpbd:iterations=10,substeps=2;style3d' -> ['vbd', 'xpbd:iterations=10,substeps=2', 'style3d']."""
+    specs: list[str] = []
+    for part in text.replace(";", ",").split(","):
+        part = part.strip()
+        if not part:
+            continue
+        if "=" in part and ":" not in part and specs:
+            specs[-1] += "," + part  # a further key=value of the previous solver
+        else:
+            specs.append(part)
+    return specs
+
+
+# ------------------------------------------------------------------------------------------------
+# Running
+
+
+def set_pins(state, case: Case, target: np.ndarray, previous: np.ndarray, dt: float) -> None:
+    q = state.particle_q.numpy()  # on the CPU device: a view of the Warp array
+    qd = state.particle_qd.numpy()
+    q[case.pinned] = target
+    qd[case.pinned] = (target - previous) / dt
+    state.particle_q.assign(q)
+    state.particle_qd.assign(qd)
+
+
+def simulate(case: Case, choice: SolverChoice) -> tuple[Metrics, float, str]:
+    """Run one configuration with one solver: (metrics, ms_per_step, note)."""
+    import warp as wp
+
+    settings = choice.settings
+    model = choice.spec.build(case, settings)
+    solver = choice.spec.make(model, settings)
+    state_in, state_out, control = model.state(), model.state(), model.control()
+    substeps = settings["substeps"]
+    dt = case.h / substeps
+    monitor = Monitor(case)
+    pins_prev = case.rest[case.pinned]
+    step_ms, pin_miss = [], 0.0
+    for s in range(case.steps):
+        target = case.pin_targets[s]
+        wp.synchronize()
+        t0 = time.perf_counter()
+        for sub in range(substeps):
+            pin = pins_prev + (target - pins_prev) * ((sub + 1) / substeps)
+            pin_before = pins_prev + (target - pins_prev) * (sub / substeps)
+            set_pins(state_in, case, pin, pin_before, dt)
+            state_in.clear_forces()
+            solver.step(state_in, state_out, control, None, dt)
+            state_in, state_out = state_out, state_in
+        wp.synchronize()
+        step_ms.append((time.perf_counter() - t0) * 1e3)
+        x = state_in.particle_q.numpy().astype(float)
+        pin_miss = max(pin_miss, float(np.max(np.abs(x[case.pinned] - target))))
+        pins_prev = target
+        if not monitor.step(s, x):
+            break
+    notes = []
+    metrics = monitor.finish()
+    if metrics.reason:
+        notes.append(metrics.reason)
+    if pin_miss > PIN_TOLERANCE:
+        notes.append(f"pins missed their targets by up to {pin_miss:.3g} m")
+    return metrics, float(np.median(step_ms)), "; ".join(notes)
+
+
+def fmt(v) -> str:
+    if isinstance(v, float):
+        return "nan" if math.isnan(v) else f"{v:.6g}"
+    return str(v)
+
+
+def csv_field(text: str) -> str:
+    text = str(text)
+    if any(ch in text for ch in ',"\n\r'):
+        return '"' + text.replace('"', '""') + '"'
+    return text
+
+
+def make_row(case: Case, choice: SolverChoice, metrics: Metrics | None, ms: float, note: str) -> dict:
+    ok = metrics is not None
+    return {
+        "scene": case.scene,
+        "size": case.size,
+        "stiffness": fmt(case.stiffness),
+        "h": f"{case.h:.17g}",
+        "family": choice.spec.family,
+        "solver": choice.label,
+        "ms_per_step": fmt(ms),
+        "timing": "warp_cpu",
+        "solve_error": "nan",
+        "traj_error_be": "nan",
+        "traj_error_fine": "nan",
+        "max_stretch": fmt(metrics.max_stretch if ok else math.nan),
+        "p99_stretch": fmt(metrics.p99_stretch if ok else math.nan),
+        "energy_growth": "nan",
+        "stable": 1 if ok and metrics.fail_step < 0 else 0,
+        "fail_step": metrics.fail_step if ok else -1,
+        "note": note,
+    }
+
+
+def run_one(case: Case, choice: SolverChoice) -> dict:
+    try:
+        metrics, ms, note = simulate(case, choice)
+        return make_row(case, choice, metrics, ms, note)
+    except Exception as e:  # a solver that cannot run this configuration still gives its row
+        traceback.print_exc(file=sys.stderr)
+        reason = f"{type(e).__name__}: {e}".replace("\n", " ")
+        return make_row(case, choice, None, math.nan, f"failed: {reason}")
+
+
+def write_csv(path: Path, rows: list[dict]) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
+    with os.fdopen(fd, "w", newline="") as f:
+        f.write(",".join(COLUMNS) + "\n")
+        for row in rows:
+            f.write(",".join(csv_field(row[c]) for c in COLUMNS) + "\n")
+    os.replace(tmp, path)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("in_dir", type=Path, help="directory of cloth_study --export-newton JSON files")
+    ap.add_argument("out_csv", type=Path)
+    ap.add_argument("--solvers", default="vbd,xpbd,style3d",
+                    help="comma-separated solver specs, name[:key=value,...] (default: %(default)s)")
+    ap.add_argument("--max-size", type=int, default=None, help="skip configurations with size > N")
+    args = ap.parse_args(argv)
+
+    def fail(msg: str) -> int:
+        print(f"newton_study: {msg}", file=sys.stderr)
+        return 2
+
+    try:
+        choices = [parse_solver(s) for s in split_solver_list(args.solvers)]
+    except ValueError as e:
+        return fail(str(e))
+    if not choices:
+        return fail("--solvers names no solver")
+    if not args.in_dir.is_dir():
+        return fail(f"{args.in_dir} is not a directory")
+    paths = sorted(args.in_dir.glob("*.json"))
+    if not paths:
+        return fail(f"no *.json in {args.in_dir}")
+    try:
+        cases = [load_case(p) for p in paths]
+    except InputError as e:
+        return fail(str(e))
+    if args.max_size is not None:
+        cases = [c for c in cases if c.size <= args.max_size]
+        if not cases:
+            return fail(f"no configuration in {args.in_dir} has size <= {args.max_size}")
+
+    import warp as wp
+
+    wp.config.quiet = True
+    wp.init()
+    wp.set_device("cpu")
+
+    rows = []
+    total = len(cases) * len(choices)
+    for case in cases:
+        for choice in choices:
+            t0 = time.perf_counter()
+            with wp.ScopedDevice("cpu"):
+                row = run_one(case, choice)
+            rows.append(row)
+            print(
+                f"[{len(rows)}/{total}] {case.path.name} {row['solver']}: ms/step {row['ms_per_step']} "
+                f"max_stretch {row['max_stretch']} p99 {row['p99_stretch']} stable {row['stable']} "
+                f"fail_step {row['fail_step']} ({time.perf_counter() - t0:.1f} s){' - ' + row['note'] if row['note'] else ''}",
+                file=sys.stderr,
+                flush=True,
+            )
+    write_csv(args.out_csv, rows)
+    print(f"newton_study: {len(rows)} rows written to {args.out_csv}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
