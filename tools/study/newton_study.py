@@ -35,14 +35,30 @@ Settings (defaults of Newton unless said):
   springs, so a springs-only model would come out as one colour (no Gauss-Seidel ordering between
   neighbours). The harness colours the spring graph itself with ``newton.utils.color_graph`` (the
   same colouring routine) and passes it with ``ModelBuilder.set_coloring``.
-- xpbd: ``SolverXPBD(model, iterations=2)`` is Newton's default (solver_xpbd.py,
-  ``iterations: int = 2``). XPBD sums the spring corrections of an iteration (Jacobi, no
-  averaging), so with a particle of ~1 g and k = 1e4 N/m every spring is nearly a hard distance
-  constraint (alpha = 1/(k dt^2) ~ 5.8 against w_i + w_j ~ 1e3..5e3) and 2 iterations leave a lot of
-  stretch. The default stays 2 (Newton's); ``xpbd:iterations=10`` is the count Newton's own cloth
-  examples use (example_cloth_hanging.py).
+- xpbd: ``SolverXPBD(model, iterations=2)``, Newton's default count (solver_xpbd.py,
+  ``iterations: int = 2``), but not one step per study step: XPBD adds up the corrections of all
+  springs of a particle in an iteration (Jacobi, no averaging, no relaxation for springs), and with
+  particles of about 1 g and k = 1e4 N/m every spring is a nearly hard constraint (compliance
+  alpha = 1/(k dt^2) = 5.8 at dt = 1/240 against w_i + w_j = 1.7e3..6.8e3 1/kg at 17x17), so the
+  sum overshoots and the cloth explodes within a few steps (9x9 with iterations 1, 2 and 10: all
+  blew up by step 5; more iterations do not help, substeps do). ``substeps=auto`` (xpbd's default)
+  takes the fewest substeps with alpha >= 2 (w_i + w_j) on every spring, i.e.
+  dt = h/substeps <= 1 / sqrt(2 k (w_i + w_j)) (pins have w = 0). Measured at 17x17: the study's
+  hanging flag needs 35 (25 and 30 blow up late), its vehicle path 35, the 1 m sideways test 30;
+  auto gives 43, 43 and 49 there. The other bound is float32: Newton's state is float32 and XPBD
+  takes velocity as (x - x0)/dt, so once g dt^2 is below the float32 spacing of the positions
+  (2.4e-7 m at |x| = 2 m) gravity's pull from rest is rounded away, in part, and wholly when it is
+  under half a spacing (at 17x17, 60 substeps leave the hanging flag almost still). At 33x33 the
+  two bounds cross, so XPBD has no working setting there: on the hanging flag 45 and 55 substeps
+  blew up (steps 1 and 168), 65 and 85 (auto) did not move at all. The harness notes every row with g dt^2 under the spacing, and a run whose
+  free particles never move 1e-6 m is a failed row (metrics nan, stable 0, reason in the note).
+  The label has the substep count used; ``xpbd:substeps=1`` is Newton's plain default.
 - style3d: ``SolverStyle3D(model, config=SolverStyle3D.Config())``: iterations=10 non-linear and
-  linear_iterations=10 PCG iterations (its defaults).
+  linear_iterations=10 PCG iterations (its defaults); one step per study step. Its velocity update
+  keeps 0.998 of (x - x_prev)/dt (style3d/kernels.py ``update_velocity``), a damping of its own.
+  Its PD matrix is constant (the rest-state stretch stiffness), so with a stiff membrane
+  (k dt^2/m ~ 100) 10 non-linear iterations move the cloth much less than gravity would: it falls
+  slowly, as if heavily damped (more ``iterations`` fix that; more ``linear_iterations`` do not).
 
 Stiffness matching
 ------------------
@@ -106,17 +122,27 @@ Metrics (from the particle positions after every study step, with OUR springs li
   The run stops at the first step that is non-finite, too far or too fast (as cloth_study does);
   max_stretch and p99_stretch then cover the steps before it.
 - timing = warp_cpu; solve_error, traj_error_be, traj_error_fine, energy_growth = nan.
-A solver that cannot run a configuration still gives its row: stable = 0, metrics nan, the reason
-in ``note``.
+A solver that cannot run a configuration (an exception, or a run in which no free particle ever
+moves 1e-6 m from its start) still gives its row: stable = 0, metrics nan, the reason in ``note``.
+Numbers are printed as cloth_study prints them (%g; ms with 5 digits, stretch with 4) and the
+solver column is quoted, so the rows sit next to error_vs_runtime.csv's (which has a ``row`` column
+first). Stretch is measured over the structural springs, as cloth_study's part 1 does
+(``cloth::measure(..., structuralOnly = true)``). One difference remains: cloth_study calls a run
+unstable as soon as any step's stretch exceeds 1.0 (``StabilityLimits``); this harness looks at
+the last 0.25 s instead.
 
-Warp compiles its kernels on first use (LLVM, CPU) and caches them in ~/.cache/warp. On the
-study's 2-core machine, the whole of vbd, xpbd and style3d on a 9x9 and a 17x17 input of 240 steps
-took about 5 min with an empty cache (compilation) and about 25 s with the cache filled.
+Warp compiles its kernels on first use (LLVM, CPU) and caches them in ~/.cache/warp/<version>. On
+the study's 2-core machine (with another build running beside it), vbd, xpbd and style3d on a 9x9
+and a 17x17 input of 240 steps took 74 s in all with an empty cache (about 55 s of it compiling
+Newton's modules; xpbd's kernels alone take 20 s) and 20 to 27 s with the cache filled; the study's
+17x17 and 33x33 flags (4 files of 360 steps, 12 rows) take about 85 s with the cache filled.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import json
 import math
 import os
@@ -128,7 +154,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-import numpy as np
+try:
+    import numpy as np
+except ImportError:
+    sys.exit("newton_study: numpy is missing: pip install -r tools/study/requirements-newton.txt (in a venv)")
 
 COLUMNS = [
     "scene", "size", "stiffness", "h", "family", "solver", "ms_per_step", "timing", "solve_error",
@@ -139,12 +168,14 @@ REQUIRED_FIELDS = [
     "scene", "size", "stiffness", "h", "steps", "gravity", "rest_positions", "masses", "springs",
     "triangles", "pinned", "pin_positions",
 ]
-STRETCH_KINDS = ("structural", "shear")
+STRETCH_KINDS = ("structural",)  # as cloth_study part 1 (cloth::measure(..., structuralOnly = true))
 MAX_DISTANCE = 100.0  # m from the first pin
 MAX_SPEED = 1000.0  # m/s
 LATE_WINDOW = 0.25  # s
 LATE_MAX_STRETCH = 0.5
 PIN_TOLERANCE = 1e-6  # m
+FROZEN_TOLERANCE = 1e-6  # m: a run whose free particles never move farther did not simulate
+XPBD_MARGIN = 2.0  # auto substeps: alpha >= XPBD_MARGIN * (w_i + w_j)
 
 
 class InputError(Exception):
@@ -189,28 +220,38 @@ def load_case(path: Path) -> Case:
     for name in REQUIRED_FIELDS:
         if name not in data:
             raise InputError(f"{path}: missing field '{name}'")
-    try:
-        springs = data["springs"]
-        case = Case(
-            path=path,
-            scene=str(data["scene"]),
-            size=int(data["size"]),
-            stiffness=float(data["stiffness"]),
-            h=float(data["h"]),
-            steps=int(data["steps"]),
-            gravity=np.asarray(data["gravity"], dtype=float).reshape(3),
-            rest=np.asarray(data["rest_positions"], dtype=float).reshape(-1, 3),
-            masses=np.asarray(data["masses"], dtype=float),
-            spring_ij=np.asarray([s[:2] for s in springs], dtype=np.int64).reshape(-1, 2),
-            spring_k=np.asarray([s[2] for s in springs], dtype=float),
-            spring_rest=np.asarray([s[3] for s in springs], dtype=float),
-            spring_kind=np.asarray([str(s[4]) for s in springs]),
-            triangles=np.asarray(data["triangles"], dtype=np.int64).reshape(-1, 3),
-            pinned=np.asarray(data["pinned"], dtype=np.int64).reshape(-1),
-            pin_targets=np.asarray(data["pin_positions"], dtype=float),
-        )
-    except (TypeError, ValueError, IndexError) as e:
-        raise InputError(f"{path}: malformed field: {e}") from e
+
+    def read(name: str, convert: Callable):
+        try:
+            return convert(data[name])
+        except (TypeError, ValueError, IndexError) as e:
+            raise InputError(f"{path}: field '{name}' is malformed: {e}") from e
+
+    def points(v):
+        return np.asarray(v, dtype=float).reshape(-1, 3)
+
+    def indices(width: int):
+        return lambda v: np.asarray(v, dtype=np.int64).reshape(-1, width)
+
+    springs = read("springs", lambda v: [(int(i), int(j), float(k), float(r), str(kind)) for i, j, k, r, kind in v])
+    case = Case(
+        path=path,
+        scene=read("scene", str),
+        size=read("size", int),
+        stiffness=read("stiffness", float),
+        h=read("h", float),
+        steps=read("steps", int),
+        gravity=read("gravity", lambda v: np.asarray(v, dtype=float).reshape(3)),
+        rest=read("rest_positions", points),
+        masses=read("masses", lambda v: np.asarray(v, dtype=float).reshape(-1)),
+        spring_ij=np.asarray([s[:2] for s in springs], dtype=np.int64).reshape(-1, 2),
+        spring_k=np.asarray([s[2] for s in springs], dtype=float),
+        spring_rest=np.asarray([s[3] for s in springs], dtype=float),
+        spring_kind=np.asarray([s[4] for s in springs]),
+        triangles=read("triangles", indices(3)),
+        pinned=read("pinned", lambda v: np.asarray(v, dtype=np.int64).reshape(-1)),
+        pin_targets=read("pin_positions", lambda v: np.asarray(v, dtype=float)),
+    )
     check_case(case)
     return case
 
@@ -233,6 +274,10 @@ def check_case(c: Case) -> None:
         bad("pinned", "no pinned particle")
     if c.h <= 0 or c.steps <= 0:
         bad("h" if c.h <= 0 else "steps", "must be positive")
+    if (c.spring_rest <= 0).any():
+        bad("springs", "a rest length is not positive")
+    if (c.masses < 0).any():
+        bad("masses", "a mass is negative")
     unknown = set(c.spring_kind) - {"structural", "shear", "bend"}
     if unknown:
         bad("springs", f"unknown spring kind(s) {sorted(unknown)}")
@@ -258,6 +303,7 @@ class Metrics:
     p99_stretch: float = 0.0
     fail_step: int = -1
     reason: str = ""
+    moved: float = 0.0  # farthest any free particle got from its start (m)
     late_stretch: list = field(default_factory=list)  # (step, max stretch) over the last 0.25 s
 
 
@@ -270,6 +316,7 @@ class Monitor:
         self.case = case
         self.late_from = case.steps - max(1, int(round(LATE_WINDOW / case.h)))
         self.prev = case.rest.copy()
+        self.free = np.setdiff1d(np.arange(case.n), case.pinned)
         self.m = Metrics()
 
     def step(self, s: int, x: np.ndarray) -> bool:
@@ -291,6 +338,7 @@ class Monitor:
         m.p99_stretch = max(m.p99_stretch, p99_nearest_rank(stretch) if len(stretch) else 0.0)
         if s >= self.late_from:
             m.late_stretch.append((s, top))
+        m.moved = max(m.moved, float(np.max(np.abs(x[self.free] - c.rest[self.free]), initial=0.0)))
         self.prev = x
         return True
 
@@ -439,10 +487,54 @@ def make_style3d(model, settings: dict):
     return solver
 
 
+def auto_substeps(case: Case) -> int:
+    """Fewest substeps with XPBD compliance alpha = 1/(k dt^2) >= XPBD_MARGIN (w_i + w_j) on every spring."""
+    w = np.where(case.masses > 0, 1.0 / np.maximum(case.masses, 1e-300), 0.0)
+    w[case.pinned] = 0.0
+    rate = np.sqrt(XPBD_MARGIN * case.spring_k * (w[case.spring_ij[:, 0]] + w[case.spring_ij[:, 1]]))
+    return max(1, int(math.ceil(case.h * float(rate.max()) - 1e-9)))
+
+
+def float32_note(case: Case, dt: float) -> str:
+    """A note when one step's fall under gravity from rest, g dt^2, is below float32's spacing at the positions."""
+    fall = float(np.linalg.norm(case.gravity)) * dt * dt
+    reach = max(float(np.abs(case.rest).max()), float(np.abs(case.pin_targets).max()))
+    spacing = float(np.spacing(np.float32(reach)))
+    if fall >= spacing:
+        return ""
+    return (f"g*dt^2 = {fall:.2g} m is below the float32 spacing of the positions ({spacing:.2g} m): "
+            "Newton's float32 state rounds part or all of gravity's pull away")
+
+
+def positive_int(value: str):
+    v = int(value)
+    if v < 1:
+        raise ValueError("must be at least 1")
+    return v
+
+
+def substeps_value(value: str):
+    return "auto" if value == "auto" else positive_int(value)
+
+
+def membrane_value(value: str):
+    if value not in ("springs", "full"):
+        raise ValueError("must be springs or full")
+    return value
+
+
+PARAMETERS = {  # how each solver setting is read from a spec
+    "iterations": positive_int,
+    "linear_iterations": positive_int,
+    "substeps": substeps_value,
+    "membrane": membrane_value,
+}
+
+
 @dataclass(frozen=True)
 class NewtonSolver:
     family: str
-    defaults: dict  # every setting, in label order; substeps is the harness's
+    defaults: dict  # every setting, in label order (substeps belongs to the harness)
     build: Callable  # (case, settings) -> Model
     make: Callable  # (model, settings) -> solver
 
@@ -452,7 +544,7 @@ SOLVERS = {
         "newton_vbd", {"iterations": 10, "substeps": 1}, lambda c, s: build_springs(c, s, color=True), make_vbd
     ),
     "xpbd": NewtonSolver(
-        "newton_xpbd", {"iterations": 2, "substeps": 1}, lambda c, s: build_springs(c, s, color=False), make_xpbd
+        "newton_xpbd", {"iterations": 2, "substeps": "auto"}, lambda c, s: build_springs(c, s, color=False), make_xpbd
     ),
     "style3d": NewtonSolver(
         "newton_style3d",
@@ -467,11 +559,16 @@ SOLVERS = {
 class SolverChoice:
     name: str
     spec: NewtonSolver
-    settings: dict
+    settings: dict  # as asked (substeps may be "auto")
 
-    @property
-    def label(self) -> str:
-        return self.name + ":" + ",".join(f"{k}={v}" for k, v in self.settings.items())
+    def resolved(self, case: Case) -> dict:
+        settings = dict(self.settings)
+        if settings["substeps"] == "auto":
+            settings["substeps"] = auto_substeps(case)
+        return settings
+
+    def label(self, settings: dict) -> str:
+        return self.name + ":" + ",".join(f"{k}={v}" for k, v in settings.items())
 
 
 def parse_solver(text: str) -> SolverChoice:
@@ -486,13 +583,10 @@ def parse_solver(text: str) -> SolverChoice:
             raise ValueError(f"solver '{name}': parameter '{item}' is not key=value")
         if key not in settings:
             raise ValueError(f"solver '{name}' has no parameter '{key}' (known: {', '.join(settings)})")
-        default = settings[key]
         try:
-            settings[key] = type(default)(value)
-        except ValueError:
-            raise ValueError(f"solver '{name}' parameter {key} has a bad value '{value}'") from None
-        if isinstance(default, int) and settings[key] < 1:
-            raise ValueError(f"solver '{name}' parameter {key} must be at least 1")
+            settings[key] = PARAMETERS[key](value)
+        except ValueError as e:
+            raise ValueError(f"solver '{name}' parameter {key} has a bad value '{value}': {e}") from None
     return SolverChoice(name, spec, settings)
 
 
@@ -523,11 +617,10 @@ def set_pins(state, case: Case, target: np.ndarray, previous: np.ndarray, dt: fl
     state.particle_qd.assign(qd)
 
 
-def simulate(case: Case, choice: SolverChoice) -> tuple[Metrics, float, str]:
+def simulate(case: Case, choice: SolverChoice, settings: dict) -> tuple[Metrics, float, str]:
     """Run one configuration with one solver: (metrics, ms_per_step, note)."""
     import warp as wp
 
-    settings = choice.settings
     model = choice.spec.build(case, settings)
     solver = choice.spec.make(model, settings)
     state_in, state_out, control = model.state(), model.state(), model.control()
@@ -541,9 +634,9 @@ def simulate(case: Case, choice: SolverChoice) -> tuple[Metrics, float, str]:
         wp.synchronize()
         t0 = time.perf_counter()
         for sub in range(substeps):
-            pin = pins_prev + (target - pins_prev) * ((sub + 1) / substeps)
-            pin_before = pins_prev + (target - pins_prev) * (sub / substeps)
-            set_pins(state_in, case, pin, pin_before, dt)
+            before = pins_prev + (target - pins_prev) * (sub / substeps)
+            after = pins_prev + (target - pins_prev) * ((sub + 1) / substeps)
+            set_pins(state_in, case, after, before, dt)
             state_in.clear_forces()
             solver.step(state_in, state_out, control, None, dt)
             state_in, state_out = state_out, state_in
@@ -554,44 +647,35 @@ def simulate(case: Case, choice: SolverChoice) -> tuple[Metrics, float, str]:
         pins_prev = target
         if not monitor.step(s, x):
             break
-    notes = []
     metrics = monitor.finish()
-    if metrics.reason:
-        notes.append(metrics.reason)
+    notes = [metrics.reason] if metrics.reason else []
     if pin_miss > PIN_TOLERANCE:
         notes.append(f"pins missed their targets by up to {pin_miss:.3g} m")
-    return metrics, float(np.median(step_ms)), "; ".join(notes)
+    notes.append(float32_note(case, dt))
+    return metrics, float(np.median(step_ms)), "; ".join(filter(None, notes))
 
 
-def fmt(v) -> str:
-    if isinstance(v, float):
-        return "nan" if math.isnan(v) else f"{v:.6g}"
-    return str(v)
+def fmt(v: float, digits: int) -> str:
+    """As cloth_study prints its numbers (%g with 4 or 5 digits); nan as nan."""
+    return "nan" if math.isnan(v) else f"{v:.{digits}g}"
 
 
-def csv_field(text: str) -> str:
-    text = str(text)
-    if any(ch in text for ch in ',"\n\r'):
-        return '"' + text.replace('"', '""') + '"'
-    return text
-
-
-def make_row(case: Case, choice: SolverChoice, metrics: Metrics | None, ms: float, note: str) -> dict:
+def make_row(case: Case, choice: SolverChoice, label: str, metrics: Metrics | None, ms: float, note: str) -> dict:
     ok = metrics is not None
     return {
         "scene": case.scene,
         "size": case.size,
-        "stiffness": fmt(case.stiffness),
-        "h": f"{case.h:.17g}",
+        "stiffness": f"{case.stiffness:g}",
+        "h": f"{case.h:g}",
         "family": choice.spec.family,
-        "solver": choice.label,
-        "ms_per_step": fmt(ms),
+        "solver": label,
+        "ms_per_step": fmt(ms, 5),
         "timing": "warp_cpu",
         "solve_error": "nan",
         "traj_error_be": "nan",
         "traj_error_fine": "nan",
-        "max_stretch": fmt(metrics.max_stretch if ok else math.nan),
-        "p99_stretch": fmt(metrics.p99_stretch if ok else math.nan),
+        "max_stretch": fmt(metrics.max_stretch if ok else math.nan, 4),
+        "p99_stretch": fmt(metrics.p99_stretch if ok else math.nan, 4),
         "energy_growth": "nan",
         "stable": 1 if ok and metrics.fail_step < 0 else 0,
         "fail_step": metrics.fail_step if ok else -1,
@@ -600,13 +684,27 @@ def make_row(case: Case, choice: SolverChoice, metrics: Metrics | None, ms: floa
 
 
 def run_one(case: Case, choice: SolverChoice) -> dict:
+    label = choice.label(choice.settings)
     try:
-        metrics, ms, note = simulate(case, choice)
-        return make_row(case, choice, metrics, ms, note)
+        settings = choice.resolved(case)
+        label = choice.label(settings)
+        with contextlib.redirect_stdout(io.StringIO()):  # Warp's timers (e.g. Style3D precompute) print here
+            metrics, ms, note = simulate(case, choice, settings)
+        if metrics.fail_step < 0 and metrics.moved < FROZEN_TOLERANCE:  # ran, but simulated nothing
+            frozen = f"failed: no free particle moved {FROZEN_TOLERANCE:g} m in {case.steps} steps"
+            return make_row(case, choice, label, None, math.nan, "; ".join(filter(None, [frozen, note])))
+        return make_row(case, choice, label, metrics, ms, note)
     except Exception as e:  # a solver that cannot run this configuration still gives its row
         traceback.print_exc(file=sys.stderr)
         reason = f"{type(e).__name__}: {e}".replace("\n", " ")
-        return make_row(case, choice, None, math.nan, f"failed: {reason}")
+        return make_row(case, choice, label, None, math.nan, f"failed: {reason}")
+
+
+def csv_field(column: str, value) -> str:
+    text = str(value)
+    if column == "solver" or any(ch in text for ch in ',"\n\r'):  # cloth_study always quotes solver
+        return '"' + text.replace('"', '""') + '"'
+    return text
 
 
 def write_csv(path: Path, rows: list[dict]) -> None:
@@ -615,7 +713,7 @@ def write_csv(path: Path, rows: list[dict]) -> None:
     with os.fdopen(fd, "w", newline="") as f:
         f.write(",".join(COLUMNS) + "\n")
         for row in rows:
-            f.write(",".join(csv_field(row[c]) for c in COLUMNS) + "\n")
+            f.write(",".join(csv_field(c, row[c]) for c in COLUMNS) + "\n")
     os.replace(tmp, path)
 
 
@@ -652,9 +750,13 @@ def main(argv=None) -> int:
         if not cases:
             return fail(f"no configuration in {args.in_dir} has size <= {args.max_size}")
 
-    import warp as wp
+    try:
+        import warp as wp
 
-    wp.config.quiet = True
+        import newton  # noqa: F401
+    except ImportError as e:
+        return fail(f"{e}: pip install -r tools/study/requirements-newton.txt (in a venv)")
+    wp.config.log_level = wp.LOG_WARNING  # no banner, no per-module compile lines
     wp.init()
     wp.set_device("cpu")
 

@@ -26,6 +26,10 @@ def main():
     d = sys.argv[1] if len(sys.argv) > 1 else "out/study"
     with open(os.path.join(d, "error_vs_runtime.csv"), newline="") as f:
         rows = list(csv.DictReader(f))
+    newton = os.path.join(d, "newton.csv")  # tools/run study --newton: Newton's solvers (Warp CPU)
+    if os.path.isfile(newton):
+        with open(newton, newline="") as f:
+            rows += list(csv.DictReader(f))
     families = sorted({r["family"] for r in rows})
     palette = plt.cm.tab10 if len(families) <= 10 else plt.cm.tab20
     colors = {f: palette(i % palette.N) for i, f in enumerate(families)}
