@@ -38,7 +38,6 @@ inline SpringTerms<Scalar> springTerms(const Vec3& xi, const Vec3& xj, Scalar k,
     return springTerms(d.x(), d.y(), d.z(), k, rest, compressionRule);
 }
 
-
 // Symmetric 3x3 matrices as 6 numbers: xx xy xz yy yz zz.
 // y = S x
 template <class T>

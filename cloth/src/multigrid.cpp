@@ -280,7 +280,7 @@ struct Multigrid<T>::Impl {
     std::vector<T> pinDv;  // level 0
     std::vector<double> partial;
 
-    Impl(const MultigridSettings& s, int threads) : settings(s), pool(threads) {}
+    explicit Impl(const MultigridSettings& s) : settings(s), pool(s.threads) {}
 
     void prepare(const Model& model);
     void buildFine(const Model& model, const Environment& env, const State& state, const StepInput& input,
@@ -827,8 +827,7 @@ void Multigrid<T>::Impl::conjugateGradients(double bNorm, MultigridStats& stats)
 }
 
 template <class T>
-Multigrid<T>::Multigrid(const MultigridSettings& settings, int threads)
-    : impl_(std::make_unique<Impl>(settings, threads)) {}
+Multigrid<T>::Multigrid(const MultigridSettings& settings) : impl_(std::make_unique<Impl>(settings)) {}
 
 template <class T>
 Multigrid<T>::~Multigrid() = default;

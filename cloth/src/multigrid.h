@@ -52,7 +52,7 @@ struct BlockMatrix {
 template <class T>
 class Multigrid {
 public:
-    Multigrid(const MultigridSettings& settings, int threads);
+    explicit Multigrid(const MultigridSettings& settings);  // settings.threads: worker threads
     ~Multigrid();
 
     // Builds the system at `state` and solves it; dv gets the pinned particles' prescribed change.

@@ -108,7 +108,7 @@ TEST(Multigrid, OneVCycleReducesTheResidualOfARandomRightHandSideFivefold) {
         LinearSystem sys;
         buildSystem(c.model, {}, c.state, inputOf(c), true, sys);
         const Eigen::SparseMatrix<Scalar> W = assembleMatrix(c.model, sys);
-        Multigrid<double> mg({}, 1);
+        Multigrid<double> mg(MultigridSettings{});
         mg.prepareSystem(c.model, {}, c.state, inputOf(c), true);
         std::mt19937 rng(11);
         std::normal_distribution<Scalar> normal;
@@ -129,7 +129,7 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
         Environment env;
         env.drag = 0.5;
         buildSystem(c.model, env, c.state, inputOf(c), true, sys);
-        Multigrid<double> mg({}, 1);
+        Multigrid<double> mg(MultigridSettings{});
         mg.prepareSystem(c.model, env, c.state, inputOf(c), true);
         mg.vcycle(Eigen::VectorXd::Zero(3 * c.model.particleCount()));  // builds the coarse levels
         ASSERT_GE(mg.levels(), 2);

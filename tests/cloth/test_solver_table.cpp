@@ -22,12 +22,15 @@ SolverConfig parsed(const std::string& spec) {
     return c;
 }
 
-StepStatus stepOnce(const std::string& spec, HangingFlag& flag, const Environment& env = {}) {
-    auto solver = makeSolver(parsed(spec));
+StepInput inputFor(const HangingFlag& flag) {
     StepInput input;
     input.h = 1.0 / 60;
     input.pins = flag.pins;
-    return solver->step(flag.model, env, flag.state, input).status;
+    return input;
+}
+
+StepResult stepOnce(const std::string& spec, HangingFlag& flag) {
+    return makeSolver(parsed(spec))->step(flag.model, {}, flag.state, inputFor(flag));
 }
 
 // Values to try for a key: every word of a choice, both ends of a closed range and points just
@@ -128,23 +131,19 @@ TEST(Defects, ConjugateGradientsThatRunOutOfIterationsFailTheStep) {
     d.stiffness = {1e4, 1e4, 1e3};
     HangingFlag flag = makeHangingFlag(d);
     const State before = flag.state;
-    EXPECT_EQ(stepOnce("cg:max_iterations=2", flag), StepStatus::SolverFailed);
+    EXPECT_EQ(stepOnce("cg:max_iterations=2", flag).status, StepStatus::SolverFailed);
     EXPECT_TRUE(flag.state.x == before.x);  // nothing half-written
-    EXPECT_EQ(stepOnce("cg", flag), StepStatus::Ok);
+    EXPECT_EQ(stepOnce("cg", flag).status, StepStatus::Ok);
     // A fixed count is asked for as such, and is an approximation, not a failure.
-    EXPECT_EQ(stepOnce("cg:iterations=2", flag), StepStatus::Ok);
+    EXPECT_EQ(stepOnce("cg:iterations=2", flag).status, StepStatus::Ok);
 }
 
 TEST(Defects, CholeskyHoldsItsTolerance) {
     // Before: the Cholesky path ignored `tolerance` although describe() printed it. A tolerance
     // no double-precision solve reaches must fail the step.
     HangingFlag flag = makeHangingFlag({});
-    EXPECT_EQ(stepOnce("exact:tolerance=1e-300", flag), StepStatus::SolverFailed);
-    auto solver = makeSolver(parsed("exact"));
-    StepInput input;
-    input.h = 1.0 / 60;
-    input.pins = flag.pins;
-    const StepResult r = solver->step(flag.model, {}, flag.state, input);
+    EXPECT_EQ(stepOnce("exact:tolerance=1e-300", flag).status, StepStatus::SolverFailed);
+    const StepResult r = stepOnce("exact", flag);
     ASSERT_EQ(r.status, StepStatus::Ok);
     EXPECT_LE(r.residual, 1e-10);
 }
@@ -155,9 +154,7 @@ TEST(Defects, DesbrunRefactorsWhenTheDragChanges) {
     HangingFlag flag = makeHangingFlag({});
     Environment still, draggy;
     draggy.drag = 5;
-    StepInput input;
-    input.h = 1.0 / 60;
-    input.pins = flag.pins;
+    const StepInput input = inputFor(flag);
     auto seasoned = makeSolver(parsed("desbrun")), fresh = makeSolver(parsed("desbrun"));
     State a = flag.state;
     ASSERT_EQ(seasoned->step(flag.model, still, a, input).status, StepStatus::Ok);
@@ -171,8 +168,7 @@ TEST(Defects, AStepOwnsItsPins) {
     // Before: StepInput::pins was a span, so this compiled and read freed memory (AddressSanitizer:
     // heap-use-after-free). The pins must still hold when the temporary is gone.
     HangingFlag flag = makeHangingFlag({});
-    StepInput input;
-    input.h = 1.0 / 60;
+    StepInput input = inputFor(flag);
     input.pins = pinColumn(flag.model, Vec3(0.1, 0.2, 0.3));
     std::vector<Pin> expected = pinColumn(flag.model, Vec3(0.1, 0.2, 0.3));
     std::vector<std::vector<Pin>> noise(64, std::vector<Pin>(expected.size()));  // reuse the freed memory

@@ -173,14 +173,21 @@ double energy(const cloth::Model& m, const cloth::Environment& env, const State&
     return d.kinetic + d.potential;
 }
 
+// The study's flag: n x n, structural and shear stiffness k, bend k/10 (the rest as
+// cloth::HangingFlagDesc says).
+cloth::HangingFlag studyFlag(int n, double k) {
+    cloth::HangingFlagDesc d;
+    d.nx = d.ny = n;
+    d.stiffness = {k, k, k / 10};
+    return cloth::makeHangingFlag(d);
+}
+
 double rms(const Points& a, const Points& b) { return std::sqrt((a - b).colwise().squaredNorm().mean()); }
 
 Row runOne(const Scene& scene, int n, double k, double h, const Method& method, double duration,
            const std::vector<State>& reference, bool fine, const std::vector<State>& fineRef, int fineEvery) {
-    cloth::HangingFlagDesc d;
-    d.nx = d.ny = n;
-    d.stiffness = {k, k, k / 10};
-    const cloth::HangingFlag flag = cloth::makeHangingFlag(d);
+    const cloth::HangingFlag flag = studyFlag(n, k);
+    const cloth::HangingFlagDesc d;  // studyFlag keeps its width and height
     const cloth::Model& m = flag.model;
     Row r{scene.name, method.family, method.bullet ? "bullet:iterations=" + std::to_string(method.bulletIterations) : method.spec, n, k, h};
     const int steps = int(std::lround(duration / h));
@@ -251,10 +258,7 @@ Row runOne(const Scene& scene, int n, double k, double h, const Method& method, 
 }
 
 std::vector<State> referenceRun(const Scene& scene, int n, double k, double h, double duration) {
-    cloth::HangingFlagDesc d;
-    d.nx = d.ny = n;
-    d.stiffness = {k, k, k / 10};
-    const cloth::HangingFlag flag = cloth::makeHangingFlag(d);
+    const cloth::HangingFlag flag = studyFlag(n, k);
     Runner run(flag.model, {"exact", "exact"}, startState(flag.model, scene), {});
     std::vector<State> states{run.state};
     const int steps = int(std::lround(duration / h));
@@ -330,10 +334,7 @@ std::vector<Extreme> extremes() {
 // (tools/study/newton_study.py): the same particles, masses, springs, triangles and pins, and every
 // pin's target at the end of every step.
 void exportForNewton(const std::string& dir, const Scene& scene, int n, double k, double h, double duration) {
-    cloth::HangingFlagDesc d;
-    d.nx = d.ny = n;
-    d.stiffness = {k, k, k / 10};
-    const cloth::HangingFlag flag = cloth::makeHangingFlag(d);
+    const cloth::HangingFlag flag = studyFlag(n, k);
     const cloth::Model& m = flag.model;
     const State start = startState(m, scene);
     const int steps = int(std::lround(duration / h));
@@ -407,6 +408,19 @@ std::vector<std::string> split(const std::string& text, char sep) {
     return parts;
 }
 
+// A comma-separated list of grid sides in [lo, hi] into `out`; the error names the option and the
+// value, or is empty.
+std::string readSides(const std::string& option, const std::string& text, long lo, long hi, std::vector<int>& out) {
+    for (const std::string& v : split(text, ',')) {
+        char* end = nullptr;
+        const long n = std::strtol(v.c_str(), &end, 10);
+        if (*end != '\0' || n < lo || n > hi)
+            return option + ": '" + v + "' is not a side in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+        out.push_back(int(n));
+    }
+    return {};
+}
+
 int main(int argc, char** argv) {
     bool quick = false, extremesOnly = false, scan = true, doExtremes = true, parallel = false;
     int shard = 1, shards = 1;
@@ -438,13 +452,7 @@ int main(int argc, char** argv) {
                 shard > shards || v.find_first_not_of("0123456789/") != std::string::npos)
                 return usageError("--shard: '" + v + "' is not K/N with 1 <= K <= N <= 1000");
         } else if (a == "--extreme-sizes" && hasValue) {
-            extremeSizes.clear();
-            for (const std::string& v : split(argv[++i], ',')) {
-                char* end = nullptr;
-                const long n = std::strtol(v.c_str(), &end, 10);
-                if (*end != '\0' || n < 5 || n > 257) return usageError("--extreme-sizes: '" + v + "' is not a side in [5, 257]");
-                extremeSizes.push_back(int(n));
-            }
+            if (const std::string bad = readSides(a, argv[++i], 5, 257, extremeSizes); !bad.empty()) return usageError(bad);
         }
         else if (a == "--out" && hasValue) out = argv[++i];
         else if (a == "--scenes" && hasValue) {
@@ -452,12 +460,7 @@ int main(int argc, char** argv) {
             for (const std::string& sc : sceneFilter)
                 if (sc != "hanging_flag" && sc != "vehicle_path") return usageError("--scenes: unknown scene '" + sc + "'");
         } else if (a == "--sizes" && hasValue) {
-            for (const std::string& v : split(argv[++i], ',')) {
-                char* end = nullptr;
-                const long n = std::strtol(v.c_str(), &end, 10);
-                if (*end != '\0' || n < 3 || n > 513) return usageError("--sizes: '" + v + "' is not a side in [3, 513]");
-                sizeOverride.push_back(int(n));
-            }
+            if (const std::string bad = readSides(a, argv[++i], 3, 513, sizeOverride); !bad.empty()) return usageError(bad);
         } else if (a == "--solvers" && hasValue) {
             solverSpecs = split(argv[++i], ';');
             for (const std::string& spec : solverSpecs) {

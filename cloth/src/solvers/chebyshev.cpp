@@ -44,6 +44,7 @@ class ChebyshevSolver final : public ImplicitSolver {
 };
 
 }  // namespace
+
 std::unique_ptr<Solver> makeChebyshevSolver(const SolverConfig& config) { return createSolver<ChebyshevSolver>(config); }
 
 }  // namespace cloth

@@ -91,6 +91,7 @@ private:
 };
 
 }  // namespace
+
 std::unique_ptr<Solver> makeDesbrunSolver(const SolverConfig& config) { return createSolver<DesbrunSolver>(config); }
 
 }  // namespace cloth

@@ -54,6 +54,7 @@ private:
 };
 
 }  // namespace
+
 std::unique_ptr<Solver> makeExplicitSolver(const SolverConfig& config) { return createSolver<ExplicitSolver>(config); }
 
 }  // namespace cloth

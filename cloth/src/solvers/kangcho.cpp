@@ -12,6 +12,13 @@ namespace cloth {
 
 namespace {
 
+// The stencil layout when the model's springs form a few constant offsets, else the gather.
+template <class T>
+std::unique_ptr<KangChoLayout> layoutFor(int threads, std::vector<int> offsets) {
+    if (!offsets.empty()) return std::make_unique<StencilKangCho<T>>(threads, std::move(offsets));
+    return std::make_unique<FastKangCho<T>>(threads);
+}
+
 class KangChoSolver final : public ImplicitSolver {
     bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
                    StepResult& result) override {
@@ -27,12 +34,8 @@ class KangChoSolver final : public ImplicitSolver {
         if (model.id() != modelId_) {  // choose the layout once per model
             modelId_ = model.id();
             std::vector<int> offsets = s.impl == KangChoSettings::Impl::Fast ? springFamilies(model) : std::vector<int>();
-            if (!offsets.empty())
-                layout_ = s.singlePrecision ? std::unique_ptr<KangChoLayout>(new StencilKangCho<float>(s.threads, offsets))
-                                            : std::unique_ptr<KangChoLayout>(new StencilKangCho<double>(s.threads, offsets));
-            else
-                layout_ = s.singlePrecision ? std::unique_ptr<KangChoLayout>(new FastKangCho<float>(s.threads))
-                                            : std::unique_ptr<KangChoLayout>(new FastKangCho<double>(s.threads));
+            layout_ = s.singlePrecision ? layoutFor<float>(s.threads, std::move(offsets))
+                                        : layoutFor<double>(s.threads, std::move(offsets));
         }
         layout_->solve(model, env, state, input, config_.compressionRule, s.iterations, dv_, &profile_.forcesMs);
         profile_.solveMs = msSince(t0) - profile_.forcesMs;
@@ -45,6 +48,7 @@ private:
 };
 
 }  // namespace
+
 std::unique_ptr<Solver> makeKangChoSolver(const SolverConfig& config) { return createSolver<KangChoSolver>(config); }
 
 }  // namespace cloth

@@ -34,8 +34,8 @@ private:
                    StepResult& result) override {
         if (!float_ && !double_) {
             const MultigridSettings s = multigridSettings();
-            if (s.singlePrecision) float_ = std::make_unique<Multigrid<float>>(s, s.threads);
-            else double_ = std::make_unique<Multigrid<double>>(s, s.threads);
+            if (s.singlePrecision) float_ = std::make_unique<Multigrid<float>>(s);
+            else double_ = std::make_unique<Multigrid<double>>(s);
         }
         MultigridStats stats;
         const auto t0 = Clock::now();

@@ -23,7 +23,6 @@ StepResult commit(const Model& model, const SolverConfig& config, const StepInpu
 // x += h v. Subclasses supply dv.
 class ImplicitSolver : public Solver {
 public:
-    using Solver::Solver;
     StepResult step(const Model& model, const Environment& env, State& state, const StepInput& input) override;
 
 protected:
