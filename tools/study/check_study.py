@@ -2,6 +2,7 @@
 """Checks a study's outputs: every column and every solver family present, figures written.
 
     tools/study/check_study.py out/study      (exit 1 with the reason when something is missing)
+    tools/study/check_study.py --newton out/study  (also: Newton's three solvers at every scene and size)
     tools/study/check_study.py --extremes DIR (only: the demo's default is stable in every extreme case)
 """
 import csv
@@ -41,6 +42,33 @@ def check_findings(rows):
     return problems
 
 
+MAIN = ("10000", "0.00416667")  # the stiffness and step of every scene and size of the grid
+MULTIGRID_ROWS = {"multigrid", "multigrid:cycles=1", "multigrid:cycles=2"}
+NEWTON_FAMILIES = {"newton_vbd", "newton_xpbd", "newton_style3d"}
+
+
+def check_everywhere(rows, newton_rows):
+    """Multigrid (adaptive, one and two cycles) and an exact reference at every scene and size of
+    the run; with newton_rows, each of Newton's three solvers too, each row with numbers or with
+    the reason it has none."""
+    problems = []
+    places = sorted({(r["scene"], int(r["size"])) for r in rows if (r["stiffness"], r["h"]) == MAIN})
+    for scene, size in places:
+        here = [r for r in rows if r["scene"] == scene and int(r["size"]) == size and (r["stiffness"], r["h"]) == MAIN]
+        missing = sorted(MULTIGRID_ROWS - {r["solver"] for r in here})
+        if not any(r["family"] == "exact" for r in here):
+            missing.append("an exact reference")
+        if newton_rows is not None:
+            theirs = [r for r in newton_rows if r["scene"] == scene and int(r["size"]) == size]
+            missing += sorted(NEWTON_FAMILIES - {r["family"] for r in theirs})
+            for r in theirs:
+                if num(r["max_stretch"]) != num(r["max_stretch"]) and not r.get("note"):
+                    problems.append(f"newton.csv {scene} {size} {r['solver']}: no result and no reason")
+        if missing:
+            problems.append(f"{scene} {size}x{size}: no rows for {missing}")
+    return problems
+
+
 def check_extremes(d):
     """Every extreme case must be stable with the demo's default configuration at 33x33 (at
     65x65 the demo's default is measured, not asserted: docs/study.md)."""
@@ -61,7 +89,9 @@ def check_extremes(d):
 def main():
     if len(sys.argv) > 2 and sys.argv[1] == "--extremes":
         return check_extremes(sys.argv[2])
-    d = sys.argv[1] if len(sys.argv) > 1 else "out/study"
+    newton = "--newton" in sys.argv[1:]
+    args = [a for a in sys.argv[1:] if a != "--newton"]
+    d = args[0] if args else "out/study"
     with open(os.path.join(d, "error_vs_runtime.csv"), newline="") as f:
         reader = csv.DictReader(f)
         rows = list(reader)
@@ -77,9 +107,19 @@ def main():
         if not os.path.isfile(os.path.join(d, name)):
             problems.append(f"missing {name}")
     problems += check_findings(rows)
+    newton_rows = None
+    if newton:
+        try:
+            with open(os.path.join(d, "newton.csv"), newline="") as f:
+                newton_rows = list(csv.DictReader(f))
+        except OSError as e:
+            problems.append(f"--newton: {e}")
+            newton_rows = []
+    problems += check_everywhere(rows, newton_rows)
     if problems:
         sys.exit(f"{d}: " + "; ".join(problems))
-    print(f"{d}: {len(rows)} rows, every column, solver family and scene present; the findings hold")
+    print(f"{d}: {len(rows)} rows, every column, solver family and scene present, multigrid"
+          f"{' and Newton' if newton else ''} at every scene and size; the findings hold")
     check_extremes(d)
 
 
