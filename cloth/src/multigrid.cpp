@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "kernels.h"
+#include "simd.h"
 
 namespace cloth {
 
@@ -163,24 +164,120 @@ Transfer aggregationTransfer(const Eigen::SparseMatrix<double, Eigen::RowMajor>&
     return tr;
 }
 
+// out += w s for a block s whose six numbers are `stride` apart.
 template <class T>
-void symAxpy(T w, const T* s, T* out) {
-    for (int k = 0; k < 6; ++k) out[k] += w * s[k];
+void symAxpy(T w, const T* s, std::size_t stride, T* out) {
+    for (int k = 0; k < 6; ++k) out[k] += w * s[k * stride];
+}
+
+constexpr int kTile = 128;
+
+// y (tile of rows) += S x for the symmetric blocks S (six arrays) and x (three arrays).
+template <class T>
+CLOTH_INLINE inline void addBlockTimes(const T* __restrict s0, const T* __restrict s1, const T* __restrict s2,
+                                       const T* __restrict s3, const T* __restrict s4, const T* __restrict s5,
+                                       const T* __restrict x0, const T* __restrict x1, const T* __restrict x2,
+                                       int count, T* __restrict y0, T* __restrict y1, T* __restrict y2) {
+CLOTH_IVDEP
+    for (int t = 0; t < count; ++t) {
+        y0[t] += s0[t] * x0[t] + s1[t] * x1[t] + s2[t] * x2[t];
+        y1[t] += s1[t] * x0[t] + s3[t] * x1[t] + s4[t] * x2[t];
+        y2[t] += s2[t] * x0[t] + s4[t] * x1[t] + s5[t] * x2[t];
+    }
+}
+
+// out = b - W x (b given) or W x, rows [begin, end), for a banded W; x as three arrays X0, X1, X2
+// with W.pad zeros before and after.
+template <class T>
+CLOTH_SIMD_CLONES void bandedProduct(const BlockMatrix<T>& W, const T* X0, const T* X1, const T* X2, const T* b,
+                                     T* out, int begin, int end) {
+    alignas(64) T y0[kTile], y1[kTile], y2[kTile];
+    const std::size_t s = W.stride;
+    const int bands = int(W.offsets.size());
+    for (int first = begin; first < end; first += kTile) {
+        const int count = std::min(kTile, end - first);
+        std::fill(y0, y0 + count, T(0)), std::fill(y1, y1 + count, T(0)), std::fill(y2, y2 + count, T(0));
+        for (int k = 0; k <= bands; ++k) {
+            const T* B = W.values.data() + 6 * std::size_t(k) * s + W.pad;
+            for (const int side : {1, -1}) {
+                if (k == 0 && side < 0) break;
+                const int o = k == 0 ? 0 : W.offsets[k - 1];
+                const int row = first + (side > 0 ? 0 : -o), col = first + side * o;
+                addBlockTimes(B + row, B + s + row, B + 2 * s + row, B + 3 * s + row, B + 4 * s + row,
+                              B + 5 * s + row, X0 + col, X1 + col, X2 + col, count, y0, y1, y2);
+            }
+        }
+        T* o = out + 3 * std::size_t(first);
+        if (b) {
+            const T* bi = b + 3 * std::size_t(first);
+            for (int t = 0; t < count; ++t)
+                o[3 * t] = bi[3 * t] - y0[t], o[3 * t + 1] = bi[3 * t + 1] - y1[t], o[3 * t + 2] = bi[3 * t + 2] - y2[t];
+        } else {
+            for (int t = 0; t < count; ++t) o[3 * t] = y0[t], o[3 * t + 1] = y1[t], o[3 * t + 2] = y2[t];
+        }
+    }
 }
 
 }  // namespace
 
+// Array lengths in the banded layout are rounded to whole 4 KiB pages plus one cache line, so that
+// the arrays a product streams through start in different cache sets (a whole number of pages
+// apart, the 42 arrays of level 0 compete for a few sets and evict each other: a 1.5x slower step).
+template <class T>
+std::size_t spacedLength(std::size_t len) {
+    constexpr std::size_t page = 4096 / sizeof(T), line = 64 / sizeof(T);
+    return (len + page - 1) / page * page + line;
+}
+
+template <class T>
+void BlockMatrix<T>::layout(bool allowBands) {
+    offsets.clear();
+    pad = 0;
+    at.assign(std::size_t(n + slots), 0);
+    // Banded needs one entry per (row, column): two springs between the same particles (a mesh
+    // may have them) would share a band position.
+    bool distinct = true;
+    std::vector<int> all, row;
+    for (int i = 0; i < n; ++i) {
+        row.assign(col.begin() + start[i], col.begin() + start[i + 1]);
+        std::sort(row.begin(), row.end());
+        distinct = distinct && std::adjacent_find(row.begin(), row.end()) == row.end();
+        for (int j : row)
+            if (j > i) all.push_back(j - i);
+    }
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    if (!allowBands || !distinct || all.empty() || int(all.size()) > kMaxBands || n < 64) {
+        stride = 1;
+        for (int b = 0; b < n + slots; ++b) at[b] = 6 * std::size_t(b);
+        values.assign(6 * std::size_t(n + slots), T(0));
+        return;
+    }
+    offsets = all;
+    pad = offsets.back();
+    stride = spacedLength<T>(std::size_t(n + pad));
+    for (int i = 0; i < n; ++i) {
+        at[i] = pad + i;
+        for (int e = start[i]; e < start[i + 1]; ++e)
+            if (col[e] > i) {
+                const int k = 1 + int(std::lower_bound(offsets.begin(), offsets.end(), col[e] - i) - offsets.begin());
+                at[n + slot[e]] = 6 * std::size_t(k) * stride + pad + i;
+            }
+    }
+    values.assign(6 * (offsets.size() + 1) * stride, T(0));
+}
+
 template <class T>
 Eigen::MatrixXd BlockMatrix<T>::dense() const {
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-    auto put = [&M](int i, int j, const T* s) {
+    auto put = [&](int i, int j, int b) {
         const int idx[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
         for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c) M(3 * i + r, 3 * j + c) += double(s[idx[r][c]]);
+            for (int c = 0; c < 3; ++c) M(3 * i + r, 3 * j + c) += double(get(b, idx[r][c]));
     };
     for (int i = 0; i < n; ++i) {
-        put(i, i, &blocks[6 * std::size_t(i)]);
-        for (int e = start[i]; e < start[i + 1]; ++e) put(i, col[e], block(e));
+        put(i, i, i);
+        for (int e = start[i]; e < start[i + 1]; ++e) put(i, col[e], n + slot[e]);
     }
     return M;
 }
@@ -193,7 +290,7 @@ template <class T>
 struct SpringSet {
     std::vector<int> si, sj, adjSpring;
     std::vector<T> k, rest, adjSign;  // adjSign: +1 where the row is the spring's i end
-    std::vector<T> ux, uy, uz, a, b, fm;
+    std::vector<T> ux, uy, uz, a, b, fm, bterm;
 
     void assign(const Model& m) {
         const auto& springs = m.springs();
@@ -208,20 +305,38 @@ struct SpringSet {
             for (int e = m.adjStart()[p]; e < m.adjStart()[p + 1]; ++e)
                 adjSign[e] = springs[adjSpring[e]].i == p ? T(1) : T(-1);
     }
-    // Eqs. 15-17 at positions xs (3n, particle-major).
-    void compute(const double* xs, bool compressionRule, ThreadPool& pool) {
+    // Eqs. 15-17 at positions xs (3n, particle-major), once per spring. Each spring's block of W,
+    // -h^2 J, goes to W's slot s (zero where an end is pinned); with velocities vs, its term of b
+    // for the row of its i end, h fm u + h^2 J (v_j - v_i), goes to bterm[3 s] (the j end's is
+    // the negative).
+    void compute(const double* xs, const double* vs, T h, T h2, const unsigned char* pinned, bool compressionRule,
+                 BlockMatrix<T>& W, ThreadPool& pool) {
+        if (vs) bterm.resize(3 * si.size());
         pool.run(int(si.size()), [&](int begin, int end) {
             for (int s = begin; s < end; ++s) {
                 const int i = si[s], j = sj[s];
                 const SpringTerms<T> t = springTerms(T(xs[3 * j] - xs[3 * i]), T(xs[3 * j + 1] - xs[3 * i + 1]),
                                                      T(xs[3 * j + 2] - xs[3 * i + 2]), k[s], rest[s], compressionRule);
                 ux[s] = t.ux, uy[s] = t.uy, uz[s] = t.uz, a[s] = t.a, b[s] = t.b, fm[s] = t.fm;
+                T J[6];
+                jacobianOf(s, J);
+                const T scale = pinned[i] || pinned[j] ? T(0) : -h2;
+                T* O = &W.values[W.at[std::size_t(W.n) + s]];
+                for (int q = 0; q < 6; ++q) O[q * W.stride] = scale * J[q];
+                if (vs) {
+                    const T dq[3] = {T(vs[3 * j] - vs[3 * i]), T(vs[3 * j + 1] - vs[3 * i + 1]),
+                                     T(vs[3 * j + 2] - vs[3 * i + 2])};
+                    T Jq[3];
+                    symmetricTimes(J, dq, Jq);
+                    bterm[3 * std::size_t(s)] = h * t.fm * t.ux + h2 * Jq[0];
+                    bterm[3 * std::size_t(s) + 1] = h * t.fm * t.uy + h2 * Jq[1];
+                    bterm[3 * std::size_t(s) + 2] = h * t.fm * t.uz + h2 * Jq[2];
+                }
             }
         });
     }
-    // J = a I + b u u^T of adjacency entry e, as 6 numbers.
-    void jacobian(int e, T* J) const {
-        const int s = adjSpring[e];
+    // J = a I + b u u^T of spring s, as 6 numbers.
+    void jacobianOf(int s, T* J) const {
         const T x = ux[s], y = uy[s], z = uz[s], as = a[s], bs = b[s];
         J[0] = as + bs * x * x, J[1] = bs * x * y, J[2] = bs * x * z;
         J[3] = as + bs * y * y, J[4] = bs * y * z, J[5] = as + bs * z * z;
@@ -257,6 +372,8 @@ struct Multigrid<T>::Impl {
 
     struct Level {
         BlockMatrix<T> A;
+        std::vector<T> xs;   // banded A: x as three arrays of xStride with A.pad zeros on both sides
+        std::size_t xStride = 0;
         std::vector<T> dinv, active;  // 6n; 1 for a row with an unknown, 0 for a pinned (empty) one
         std::vector<T> x, b, r;       // 3n
         Transfer P;                   // to the next coarser level (unused on the last)
@@ -285,8 +402,8 @@ struct Multigrid<T>::Impl {
     void prepare(const Model& model);
     void buildFine(const Model& model, const Environment& env, const State& state, const StepInput& input,
                    bool compressionRule);
-    template <class RowHook>
-    void assembleCloth(int l, T h2, const RowHook& hook);
+    template <class RowTerms>
+    void assembleCloth(int l, T h2, bool withRhs, const RowTerms& rowTerms);
     void rediscretize(int l, T h2, bool compressionRule);
     void galerkin(int l);
     void coarseOperators(T h2, bool compressionRule);
@@ -464,56 +581,71 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
     }
     coarseningName = label.str() + (rediscretized ? " (re-discretized)" : " (Galerkin)");
     for (Level& L : levels) {
-        L.A.blocks.assign(6 * std::size_t(L.A.n + L.A.slots), T(0));
+        L.A.layout(&L != &levels.back());  // the last level is factored, not multiplied
+        L.xStride = spacedLength<T>(std::size_t(L.A.n + 2 * L.A.pad));
+        L.xs.assign(L.A.banded() ? 3 * L.xStride : 0, T(0));
         L.dinv.assign(6 * std::size_t(L.A.n), T(0));
         L.active.assign(L.A.n, T(0));
         for (auto* v : {&L.x, &L.b, &L.r}) v->assign(3 * std::size_t(L.A.n), T(0));
     }
 }
 
-// W of a level that carries a cloth: W_ii = base_i + h^2 sum_j J_ij (eq. 12),
-// W_ij = -h^2 J_ij (eqs. 16, 17); rows and columns of pinned particles are zero. The springs'
-// terms must be current. hook(i, e, J) sees every entry of a free row (for level 0's b).
+// W of a level that carries a cloth, from its springs' blocks (SpringSet::compute, which wrote
+// W_ij = -h^2 J_ij, eqs. 16, 17): W_ii = base_i + h^2 sum_j J_ij (eq. 12); rows and columns of
+// pinned particles are zero. With a right-hand side (level 0): b_i = the sum of its springs'
+// terms (SpringSet::bterm, signed by the end) + h^2 J_ij dv_j for each pinned neighbour j (its
+// prescribed change, eq. 7) + rowTerms(i, b_i) (gravity, drag, external force).
 template <class T>
-template <class RowHook>
-void Multigrid<T>::Impl::assembleCloth(int l, T h2, const RowHook& hook) {
+template <class RowTerms>
+void Multigrid<T>::Impl::assembleCloth(int l, T h2, bool withRhs, const RowTerms& rowTerms) {
     Level& L = levels[l];
     const int n = L.A.n;
+    const SpringSet<T>& S = L.springs;
     pool.run(n, [&](int begin, int end) {
         for (int i = begin; i < end; ++i) {
-            T* D = &L.A.blocks[6 * std::size_t(i)];
-            // Each spring's slot is written by the row of its i end: -h^2 J, or zero when either
-            // end is pinned.
+            T* D = &L.A.values[L.A.at[i]];
+            const std::size_t ds = L.A.stride;
+            T* dinv = &L.dinv[6 * std::size_t(i)];
+            T* bi = &L.b[3 * std::size_t(i)];
             if (L.pinned[i]) {
-                for (int q = 0; q < 6; ++q) D[q] = T(0);
-                for (int e = L.A.start[i]; e < L.A.start[i + 1]; ++e)
-                    if (L.springs.adjSign[e] > 0)
-                        for (int q = 0; q < 6; ++q) L.A.blocks[6 * std::size_t(n + L.A.slot[e]) + q] = T(0);
+                for (int q = 0; q < 6; ++q) D[q * ds] = dinv[q] = T(0);
+                if (withRhs) bi[0] = bi[1] = bi[2] = T(0);
                 L.active[i] = T(0);
-                for (int q = 0; q < 6; ++q) L.dinv[6 * std::size_t(i) + q] = T(0);
                 continue;
             }
             L.active[i] = T(1);
-            T K[6] = {0, 0, 0, 0, 0, 0};
+            T K[6] = {0, 0, 0, 0, 0, 0}, r[3] = {0, 0, 0};
             for (int e = L.A.start[i]; e < L.A.start[i + 1]; ++e) {
-                T J[6];
-                L.springs.jacobian(e, J);
-                for (int q = 0; q < 6; ++q) K[q] += J[q];
-                if (L.springs.adjSign[e] > 0) {
-                    T* O = &L.A.blocks[6 * std::size_t(n + L.A.slot[e])];
-                    const bool pinnedNeighbour = L.pinned[L.A.col[e]];
-                    for (int q = 0; q < 6; ++q) O[q] = pinnedNeighbour ? T(0) : -h2 * J[q];
+                const int s = L.A.slot[e], j = L.A.col[e];
+                if (L.pinned[j]) {  // the stored block is zero; the diagonal still has the spring
+                    T J[6];
+                    S.jacobianOf(s, J);
+                    for (int q = 0; q < 6; ++q) K[q] += h2 * J[q];
+                    if (withRhs) {
+                        T Jq[3];
+                        symmetricTimes(J, &pinDv[3 * std::size_t(j)], Jq);
+                        for (int a = 0; a < 3; ++a) r[a] += h2 * Jq[a];
+                    }
+                } else {
+                    const T* O = &L.A.values[L.A.at[n + s]];
+                    for (int q = 0; q < 6; ++q) K[q] -= O[q * ds];
                 }
-                hook(i, e, J);
+                if (withRhs)
+                    for (int a = 0; a < 3; ++a) r[a] += S.adjSign[e] * S.bterm[3 * std::size_t(s) + a];
             }
-            for (int q = 0; q < 6; ++q) D[q] = L.base[6 * std::size_t(i) + q] + h2 * K[q];
-            symmetricInverse(D, &L.dinv[6 * std::size_t(i)]);
+            for (int q = 0; q < 6; ++q) K[q] += L.base[6 * std::size_t(i) + q];
+            for (int q = 0; q < 6; ++q) D[q * ds] = K[q];
+            symmetricInverse(K, dinv);
+            if (withRhs) {
+                rowTerms(i, r);
+                bi[0] = r[0], bi[1] = r[1], bi[2] = r[2];
+            }
         }
     });
 }
 
-// Level 0 at this state (the system of system.cpp's buildSystem, gathered per particle):
-// f (eq. 15, gravity, drag, external), W (eqs. 12, 16, 17 with drag and h C_i), and
+// Level 0 at this state (the system of system.cpp's buildSystem): f (eq. 15, gravity, drag,
+// external), W (eqs. 12, 16, 17 with drag and h C_i), and
 // b_i = h f_i + h^2 sum_j J_ij (v_j - v_i) (eq. 7) with pinned neighbours' prescribed dv in it.
 template <class T>
 void Multigrid<T>::Impl::buildFine(const Model& model, const Environment& env, const State& state,
@@ -545,31 +677,11 @@ void Multigrid<T>::Impl::buildFine(const Model& model, const Environment& env, c
             B[3] += h * T(C(1, 1)), B[4] += h * T(C(1, 2)), B[5] += h * T(C(2, 2));
         }
     }
-    L.springs.compute(xs, compressionRule, pool);
-    // b accumulates per row inside the assembly: f from the springs, h^2 J (v_j - v_i [+ pin dv_j]).
-    std::fill(L.b.begin(), L.b.end(), T(0));
-    const SpringSet<T>& S = L.springs;
-    assembleCloth(0, h2, [&](int i, int e, const T* J) {
-        const int s = S.adjSpring[e], j = L.A.col[e];
-        T* bi = &L.b[3 * std::size_t(i)];
-        const T fs = S.adjSign[e] * S.fm[s];
-        T dq[3] = {T(vs[3 * j] - vs[3 * i]), T(vs[3 * j + 1] - vs[3 * i + 1]), T(vs[3 * j + 2] - vs[3 * i + 2])};
-        if (L.pinned[j])
-            for (int a = 0; a < 3; ++a) dq[a] += pinDv[3 * j + a];
-        T Jq[3];
-        symmetricTimes(J, dq, Jq);
-        bi[0] += h * fs * S.ux[s] + h2 * Jq[0];
-        bi[1] += h * fs * S.uy[s] + h2 * Jq[1];
-        bi[2] += h * fs * S.uz[s] + h2 * Jq[2];
-    });
-    pool.run(n, [&](int begin, int end) {  // + h (m (g - c v) + external) on free rows
-        for (int i = begin; i < end; ++i) {
-            if (L.pinned[i]) continue;
-            const T m = T(mass[i]);
-            for (int a = 0; a < 3; ++a)
-                L.b[3 * std::size_t(i) + a] +=
-                    h * (m * (g[a] - c * T(vs[3 * i + a])) + (ext ? T(ext[3 * i + a]) : T(0)));
-        }
+    L.springs.compute(xs, vs, h, h2, L.pinned.data(), compressionRule, L.A, pool);
+    assembleCloth(0, h2, true, [&](int i, T* r) {  // + h (m (g - c v) + external)
+        const T m = T(mass[i]);
+        for (int a = 0; a < 3; ++a)
+            r[a] += h * (m * (g[a] - c * T(vs[3 * i + a])) + (ext ? T(ext[3 * i + a]) : T(0)));
     });
     lastH2 = h2;
     lastCompression = compressionRule;
@@ -595,15 +707,15 @@ void Multigrid<T>::Impl::rediscretize(int l, T h2, bool compressionRule) {
             bool pinned = false;
             for (int e = P.rStart[I]; e < P.rStart[I + 1]; ++e) {
                 const int i = P.rRow[e];
-                symAxpy(T(P.rW[e]), &F.base[6 * std::size_t(i)], base);
+                symAxpy(T(P.rW[e]), &F.base[6 * std::size_t(i)], 1, base);
                 if (P.rW[e] > best) best = P.rW[e], pinned = F.pinned[i] != 0;
             }
             std::copy(base, base + 6, &C.base[6 * std::size_t(I)]);
             C.pinned[I] = pinned;
         }
     });
-    C.springs.compute(C.pos.data(), compressionRule, pool);
-    assembleCloth(l + 1, h2, [](int, int, const T*) {});
+    C.springs.compute(C.pos.data(), nullptr, T(0), h2, C.pinned.data(), compressionRule, C.A, pool);
+    assembleCloth(l + 1, h2, false, [](int, T*) {});
 }
 
 template <class T>
@@ -625,13 +737,15 @@ void Multigrid<T>::Impl::galerkin(int l) {
         for (int d = begin; d < end; ++d) {
             T acc[6] = {0, 0, 0, 0, 0, 0};
             for (int p = F.planStart[d]; p < F.planStart[d + 1]; ++p)
-                symAxpy(F.planW[p], &F.A.blocks[6 * std::size_t(F.planSrc[p])], acc);
-            std::copy(acc, acc + 6, &C.A.blocks[6 * std::size_t(d)]);
+                symAxpy(F.planW[p], &F.A.values[F.A.at[F.planSrc[p]]], F.A.stride, acc);
+            T* out = &C.A.values[C.A.at[d]];
+            for (int q = 0; q < 6; ++q) out[q * C.A.stride] = acc[q];
         }
     });
     pool.run(C.A.n, [&](int begin, int end) {
         for (int i = begin; i < end; ++i) {
-            const T* D = &C.A.blocks[6 * std::size_t(i)];
+            T D[6];
+            for (int q = 0; q < 6; ++q) D[q] = C.A.get(i, q);
             // A row that no unknown reaches (all of its fine points pinned) is empty.
             C.active[i] = (D[0] + D[3] + D[5]) != T(0) ? T(1) : T(0);
             symmetricInverse(D, &C.dinv[6 * std::size_t(i)]);
@@ -658,8 +772,8 @@ void blockProduct(const BlockMatrix<T>& A, const T* __restrict x, const T* __res
     const int* __restrict start = A.start.data();
     const int* __restrict col = A.col.data();
     const int* __restrict slot = A.slot.data();
-    const T* __restrict diag = A.blocks.data();
-    const T* __restrict off = A.blocks.data() + 6 * std::size_t(n);
+    const T* __restrict diag = A.values.data();
+    const T* __restrict off = A.values.data() + 6 * std::size_t(n);  // gathered: block b at 6 b
     for (int i = begin; i < end; ++i) {
         const T* d = diag + 6 * std::size_t(i);
         const T* xi = x + 3 * std::size_t(i);
@@ -687,9 +801,22 @@ void blockProduct(const BlockMatrix<T>& A, const T* __restrict x, const T* __res
 template <class T>
 void Multigrid<T>::Impl::product(int l, const std::vector<T>& x, const std::vector<T>* b, std::vector<T>& out) {
     const BlockMatrix<T>& A = levels[l].A;
+    Level& L = levels[l];
     out.resize(x.size());
     const T* bp = b ? b->data() : nullptr;
-    pool.run(A.n, [&](int begin, int end) { blockProduct(A, x.data(), bp, out.data(), begin, end); });
+    if (!A.banded()) {
+        pool.run(A.n, [&](int begin, int end) { blockProduct(A, x.data(), bp, out.data(), begin, end); });
+        return;
+    }
+    pool.run(A.n, [&](int begin, int end) {
+        T* X = L.xs.data() + A.pad;
+        for (int i = begin; i < end; ++i)
+            for (int a = 0; a < 3; ++a) X[a * L.xStride + i] = x[3 * std::size_t(i) + a];
+    });
+    const T* X = L.xs.data() + A.pad;
+    pool.run(A.n, [&](int begin, int end) {
+        bandedProduct(A, X, X + L.xStride, X + 2 * L.xStride, bp, out.data(), begin, end);
+    });
 }
 
 // Damped block Jacobi: x += omega W_ii^-1 (b - W x).

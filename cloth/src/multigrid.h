@@ -36,19 +36,35 @@ struct MultigridStats {
 };
 
 // A sparse symmetric matrix of symmetric 3x3 blocks (6 numbers each: xx xy xz yy yz zz).
-// Block i < n is the diagonal of row i. The off-diagonal entries of row i are e in
-// [start[i], start[i + 1]), in column col[e], with their block at n + slot[e]: W_ij = W_ji, so the
-// two entries of a pair share one slot (on level 0, a slot is a spring).
+// Row i's off-diagonal entries are e in [start[i], start[i + 1]), in column col[e], with their block
+// in slot[e]: W_ij = W_ji, so the two entries of a pair share one slot (on level 0, a slot is a
+// spring). Block b (b < n: the diagonal block of row b; b = n + s: slot s) keeps its six numbers at
+// values[at[b] + q * stride], q = 0..5, in one of two layouts:
+//   gathered  block after block (stride 1);
+//   banded    for a matrix with few distinct column offsets j - i (a grid cloth has 6 in row-major
+//             order: 1, 2, nx - 1, nx, nx + 1, 2 nx; its Galerkin coarse grids 12): by diagonals.
+//             Band k holds W_{i, i + o_k} (o_0 = 0, then the offsets o_k > 0) of every row i as six
+//             arrays over rows, zero where the row has no such entry, so that a product runs down
+//             the bands and vectorizes over rows; W_{i, i - o} = W_{i - o, i} reads the same arrays
+//             shifted (rows -pad .. -1 of every array are zero).
 template <class T>
 struct BlockMatrix {
+    static constexpr int kMaxBands = 24;
     int n = 0, slots = 0;
     std::vector<int> start, col, slot;
-    std::vector<T> blocks;  // 6 (n + slots)
+    std::vector<T> values;
+    std::vector<std::size_t> at;  // n + slots
+    std::size_t stride = 1;
+    std::vector<int> offsets;     // banded: o_1 < o_2 < ...; empty: gathered
+    int pad = 0;
+
     int entries() const { return int(col.size()); }
-    const T* block(int e) const { return &blocks[6 * std::size_t(n + slot[e])]; }
+    bool banded() const { return !offsets.empty(); }
+    // Chooses the layout (banded where the pattern allows and allowBands) and zeroes the values.
+    void layout(bool allowBands);
+    T get(int b, int q) const { return values[at[b] + q * stride]; }
     Eigen::MatrixXd dense() const;  // for tests
 };
-
 template <class T>
 class Multigrid {
 public:
