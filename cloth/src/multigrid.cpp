@@ -170,8 +170,6 @@ void symAxpy(T w, const T* s, std::size_t stride, T* out) {
     for (int k = 0; k < 6; ++k) out[k] += w * s[k * stride];
 }
 
-constexpr int kTile = 128;
-
 // y (tile of rows) += S x for the symmetric blocks S (six arrays) and x (three arrays).
 template <class T>
 CLOTH_INLINE inline void addBlockTimes(const T* __restrict s0, const T* __restrict s1, const T* __restrict s2,
@@ -290,7 +288,7 @@ template <class T>
 struct SpringSet {
     std::vector<int> si, sj, adjSpring;
     std::vector<T> k, rest, adjSign;  // adjSign: +1 where the row is the spring's i end
-    std::vector<T> ux, uy, uz, a, b, fm, bterm;
+    std::vector<T> ux, uy, uz, a, b, bterm;  // u, a, b: for the Jacobian of a pinned neighbour
 
     void assign(const Model& m) {
         const auto& springs = m.springs();
@@ -298,7 +296,7 @@ struct SpringSet {
         si.resize(S), sj.resize(S), k.resize(S), rest.resize(S);
         for (int s = 0; s < S; ++s)
             si[s] = springs[s].i, sj[s] = springs[s].j, k[s] = T(springs[s].k), rest[s] = T(springs[s].rest);
-        for (auto* v : {&ux, &uy, &uz, &a, &b, &fm}) v->assign(S, T(0));
+        for (auto* v : {&ux, &uy, &uz, &a, &b}) v->assign(S, T(0));
         adjSpring = m.adjSpring();
         adjSign.resize(adjSpring.size());
         for (int p = 0; p < m.particleCount(); ++p)
@@ -317,7 +315,7 @@ struct SpringSet {
                 const int i = si[s], j = sj[s];
                 const SpringTerms<T> t = springTerms(T(xs[3 * j] - xs[3 * i]), T(xs[3 * j + 1] - xs[3 * i + 1]),
                                                      T(xs[3 * j + 2] - xs[3 * i + 2]), k[s], rest[s], compressionRule);
-                ux[s] = t.ux, uy[s] = t.uy, uz[s] = t.uz, a[s] = t.a, b[s] = t.b, fm[s] = t.fm;
+                ux[s] = t.ux, uy[s] = t.uy, uz[s] = t.uz, a[s] = t.a, b[s] = t.b;
                 T J[6];
                 jacobianOf(s, J);
                 const T scale = pinned[i] || pinned[j] ? T(0) : -h2;
@@ -800,8 +798,8 @@ void blockProduct(const BlockMatrix<T>& A, const T* __restrict x, const T* __res
 
 template <class T>
 void Multigrid<T>::Impl::product(int l, const std::vector<T>& x, const std::vector<T>* b, std::vector<T>& out) {
-    const BlockMatrix<T>& A = levels[l].A;
     Level& L = levels[l];
+    const BlockMatrix<T>& A = L.A;
     out.resize(x.size());
     const T* bp = b ? b->data() : nullptr;
     if (!A.banded()) {

@@ -65,6 +65,7 @@ struct BlockMatrix {
     T get(int b, int q) const { return values[at[b] + q * stride]; }
     Eigen::MatrixXd dense() const;  // for tests
 };
+
 template <class T>
 class Multigrid {
 public:

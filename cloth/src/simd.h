@@ -19,3 +19,8 @@
 #endif
 // Helpers must inline into every clone (GCC does not inline across target options otherwise).
 #define CLOTH_INLINE __attribute__((always_inline))
+
+namespace cloth {
+// Rows per tile of the vectorized kernels: their per-tile accumulators stay in L1.
+constexpr int kTile = 128;
+}  // namespace cloth

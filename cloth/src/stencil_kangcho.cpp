@@ -60,8 +60,7 @@ CLOTH_SIMD_CLONES void springKernel(const T* __restrict x, const T* __restrict y
 // springs is one short loop that adds into accumulators the size of a tile (they stay in L1), so
 // a loop body holds a few arrays, not all of them. A spring is seen from its lower end (slot t,
 // other end t + d, u pointing away: sign +1) and from its upper end (slot t - d, other end t - d,
-// sign -1).
-constexpr int kTile = 128;
+// sign -1). Tiles are kTile rows (simd.h).
 
 struct TileRange {
     int begin, n;
