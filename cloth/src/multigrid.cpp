@@ -164,10 +164,10 @@ Transfer aggregationTransfer(const Eigen::SparseMatrix<double, Eigen::RowMajor>&
     return tr;
 }
 
-// out += w s for a block s whose six numbers are `stride` apart.
+// out += w s for a block s (six numbers).
 template <class T>
-void symAxpy(T w, const T* s, std::size_t stride, T* out) {
-    for (int k = 0; k < 6; ++k) out[k] += w * s[k * stride];
+void symAxpy(T w, const T* s, T* out) {
+    for (int k = 0; k < 6; ++k) out[k] += w * s[k];
 }
 
 // y (tile of rows) += S x for the symmetric blocks S (six arrays) and x (three arrays).
@@ -249,6 +249,7 @@ void BlockMatrix<T>::layout(bool allowBands) {
         stride = 1;
         for (int b = 0; b < n + slots; ++b) at[b] = 6 * std::size_t(b);
         values.assign(6 * std::size_t(n + slots), T(0));
+        blocks.clear();
         return;
     }
     offsets = all;
@@ -263,6 +264,7 @@ void BlockMatrix<T>::layout(bool allowBands) {
             }
     }
     values.assign(6 * (offsets.size() + 1) * stride, T(0));
+    blocks.assign(6 * std::size_t(n + slots), T(0));
 }
 
 template <class T>
@@ -288,7 +290,8 @@ template <class T>
 struct SpringSet {
     std::vector<int> si, sj, adjSpring;
     std::vector<T> k, rest, adjSign;  // adjSign: +1 where the row is the spring's i end
-    std::vector<T> ux, uy, uz, a, b, bterm;  // u, a, b: for the Jacobian of a pinned neighbour
+    std::vector<T> bterm;
+    std::vector<T> pinnedJ;  // 6 per spring, written only for a spring with a pinned end
 
     void assign(const Model& m) {
         const auto& springs = m.springs();
@@ -296,7 +299,7 @@ struct SpringSet {
         si.resize(S), sj.resize(S), k.resize(S), rest.resize(S);
         for (int s = 0; s < S; ++s)
             si[s] = springs[s].i, sj[s] = springs[s].j, k[s] = T(springs[s].k), rest[s] = T(springs[s].rest);
-        for (auto* v : {&ux, &uy, &uz, &a, &b}) v->assign(S, T(0));
+        pinnedJ.assign(6 * std::size_t(S), T(0));
         adjSpring = m.adjSpring();
         adjSign.resize(adjSpring.size());
         for (int p = 0; p < m.particleCount(); ++p)
@@ -304,7 +307,8 @@ struct SpringSet {
                 adjSign[e] = springs[adjSpring[e]].i == p ? T(1) : T(-1);
     }
     // Eqs. 15-17 at positions xs (3n, particle-major), once per spring. Each spring's block of W,
-    // -h^2 J, goes to W's slot s (zero where an end is pinned); with velocities vs, its term of b
+    // -h^2 J, goes to W's slot s (zero where an end is pinned, and then J to pinnedJ, for the free
+    // end's diagonal); with velocities vs, its term of b
     // for the row of its i end, h fm u + h^2 J (v_j - v_i), goes to bterm[3 s] (the j end's is
     // the negative).
     void compute(const double* xs, const double* vs, T h, T h2, const unsigned char* pinned, bool compressionRule,
@@ -315,12 +319,14 @@ struct SpringSet {
                 const int i = si[s], j = sj[s];
                 const SpringTerms<T> t = springTerms(T(xs[3 * j] - xs[3 * i]), T(xs[3 * j + 1] - xs[3 * i + 1]),
                                                      T(xs[3 * j + 2] - xs[3 * i + 2]), k[s], rest[s], compressionRule);
-                ux[s] = t.ux, uy[s] = t.uy, uz[s] = t.uz, a[s] = t.a, b[s] = t.b;
-                T J[6];
-                jacobianOf(s, J);
-                const T scale = pinned[i] || pinned[j] ? T(0) : -h2;
-                T* O = &W.values[W.at[std::size_t(W.n) + s]];
-                for (int q = 0; q < 6; ++q) O[q * W.stride] = scale * J[q];
+                const T J[6] = {t.a + t.b * t.ux * t.ux, t.b * t.ux * t.uy, t.b * t.ux * t.uz,
+                                t.a + t.b * t.uy * t.uy, t.b * t.uy * t.uz, t.a + t.b * t.uz * t.uz};
+                const bool pinnedEnd = pinned[i] || pinned[j];
+                if (pinnedEnd) std::copy(J, J + 6, &pinnedJ[6 * std::size_t(s)]);
+                const T scale = pinnedEnd ? T(0) : -h2;
+                T O[6];
+                for (int q = 0; q < 6; ++q) O[q] = scale * J[q];
+                W.put(W.n + s, O);
                 if (vs) {
                     const T dq[3] = {T(vs[3 * j] - vs[3 * i]), T(vs[3 * j + 1] - vs[3 * i + 1]),
                                      T(vs[3 * j + 2] - vs[3 * i + 2])};
@@ -332,12 +338,6 @@ struct SpringSet {
                 }
             }
         });
-    }
-    // J = a I + b u u^T of spring s, as 6 numbers.
-    void jacobianOf(int s, T* J) const {
-        const T x = ux[s], y = uy[s], z = uz[s], as = a[s], bs = b[s];
-        J[0] = as + bs * x * x, J[1] = bs * x * y, J[2] = bs * x * z;
-        J[3] = as + bs * y * y, J[4] = bs * y * z, J[5] = as + bs * z * z;
     }
 };
 
@@ -601,12 +601,12 @@ void Multigrid<T>::Impl::assembleCloth(int l, T h2, bool withRhs, const RowTerms
     const SpringSet<T>& S = L.springs;
     pool.run(n, [&](int begin, int end) {
         for (int i = begin; i < end; ++i) {
-            T* D = &L.A.values[L.A.at[i]];
-            const std::size_t ds = L.A.stride;
             T* dinv = &L.dinv[6 * std::size_t(i)];
             T* bi = &L.b[3 * std::size_t(i)];
             if (L.pinned[i]) {
-                for (int q = 0; q < 6; ++q) D[q * ds] = dinv[q] = T(0);
+                const T zero[6] = {0, 0, 0, 0, 0, 0};
+                L.A.put(i, zero);
+                for (int q = 0; q < 6; ++q) dinv[q] = T(0);
                 if (withRhs) bi[0] = bi[1] = bi[2] = T(0);
                 L.active[i] = T(0);
                 continue;
@@ -616,8 +616,7 @@ void Multigrid<T>::Impl::assembleCloth(int l, T h2, bool withRhs, const RowTerms
             for (int e = L.A.start[i]; e < L.A.start[i + 1]; ++e) {
                 const int s = L.A.slot[e], j = L.A.col[e];
                 if (L.pinned[j]) {  // the stored block is zero; the diagonal still has the spring
-                    T J[6];
-                    S.jacobianOf(s, J);
+                    const T* J = &S.pinnedJ[6 * std::size_t(s)];
                     for (int q = 0; q < 6; ++q) K[q] += h2 * J[q];
                     if (withRhs) {
                         T Jq[3];
@@ -625,14 +624,14 @@ void Multigrid<T>::Impl::assembleCloth(int l, T h2, bool withRhs, const RowTerms
                         for (int a = 0; a < 3; ++a) r[a] += h2 * Jq[a];
                     }
                 } else {
-                    const T* O = &L.A.values[L.A.at[n + s]];
-                    for (int q = 0; q < 6; ++q) K[q] -= O[q * ds];
+                    const T* O = L.A.block(n + s);
+                    for (int q = 0; q < 6; ++q) K[q] -= O[q];
                 }
                 if (withRhs)
                     for (int a = 0; a < 3; ++a) r[a] += S.adjSign[e] * S.bterm[3 * std::size_t(s) + a];
             }
             for (int q = 0; q < 6; ++q) K[q] += L.base[6 * std::size_t(i) + q];
-            for (int q = 0; q < 6; ++q) D[q * ds] = K[q];
+            L.A.put(i, K);
             symmetricInverse(K, dinv);
             if (withRhs) {
                 rowTerms(i, r);
@@ -705,7 +704,7 @@ void Multigrid<T>::Impl::rediscretize(int l, T h2, bool compressionRule) {
             bool pinned = false;
             for (int e = P.rStart[I]; e < P.rStart[I + 1]; ++e) {
                 const int i = P.rRow[e];
-                symAxpy(T(P.rW[e]), &F.base[6 * std::size_t(i)], 1, base);
+                symAxpy(T(P.rW[e]), &F.base[6 * std::size_t(i)], base);
                 if (P.rW[e] > best) best = P.rW[e], pinned = F.pinned[i] != 0;
             }
             std::copy(base, base + 6, &C.base[6 * std::size_t(I)]);
@@ -735,9 +734,8 @@ void Multigrid<T>::Impl::galerkin(int l) {
         for (int d = begin; d < end; ++d) {
             T acc[6] = {0, 0, 0, 0, 0, 0};
             for (int p = F.planStart[d]; p < F.planStart[d + 1]; ++p)
-                symAxpy(F.planW[p], &F.A.values[F.A.at[F.planSrc[p]]], F.A.stride, acc);
-            T* out = &C.A.values[C.A.at[d]];
-            for (int q = 0; q < 6; ++q) out[q * C.A.stride] = acc[q];
+                symAxpy(F.planW[p], F.A.block(F.planSrc[p]), acc);
+            C.A.put(d, acc);
         }
     });
     pool.run(C.A.n, [&](int begin, int end) {

