@@ -99,26 +99,36 @@ TEST(Multigrid, OneVCycleReducesTheResidualOfARandomRightHandSideFivefold) {
         int nx, ny;
         bool mesh;
     };
+    // A V(2,2) cycle (two sweeps before and after) must reduce the residual at least 5x on every
+    // cloth: that measures the hierarchy. The default V(1,1) cycle (cheaper per CG iteration, and
+    // on the vehicle path as accurate at the same tolerance) must reduce it 5x on grids and 3x on
+    // meshes, where smoothed aggregation leaves more to the smoother (measured: 5.9-6.2x on the
+    // grids below, 3.3-3.5x on the meshes; V(2,2): 14-16x and 5.6-6.2x).
     // (On a rough state, with a random ripple of 5% of the spacing in every direction, the grid's
-    // reduction falls to about 4x: bilinear interpolation does not represent a crumpled sheet's
-    // low-energy modes. That is why the solver wraps the cycles in conjugate gradients.)
+    // V(2,2) reduction falls to about 4x: bilinear interpolation does not represent a crumpled
+    // sheet's low-energy modes. That is why the solver wraps the cycles in conjugate gradients.)
     for (const Size s : {Size{17, 17, false}, Size{65, 65, false}, Size{33, 22, false}, Size{40, 27, false},
                          Size{25, 17, true}, Size{41, 33, true}}) {
         const Case c = stiffCase(s.nx, s.ny, s.mesh, 3);
         LinearSystem sys;
         buildSystem(c.model, {}, c.state, inputOf(c), true, sys);
         const Eigen::SparseMatrix<Scalar> W = assembleMatrix(c.model, sys);
-        Multigrid<double> mg(MultigridSettings{});
-        mg.prepareSystem(c.model, {}, c.state, inputOf(c), true);
-        std::mt19937 rng(11);
-        std::normal_distribution<Scalar> normal;
-        Eigen::VectorXd b(3 * c.model.particleCount());
-        for (Index q = 0; q < b.size(); ++q) b[q] = sys.pinned[q / 3] ? 0.0 : normal(rng);
-        const Eigen::VectorXd x = mg.vcycle(b);
-        const Scalar reduction = (b - W * x).norm() / b.norm();
-        EXPECT_LT(reduction, 0.2) << s.nx << "x" << s.ny << (s.mesh ? " mesh" : " grid") << ", levels "
-                                  << mg.describeHierarchy();
-        EXPECT_GE(mg.levels(), 3) << mg.describeHierarchy();
+        for (const int sweeps : {2, MultigridSettings{}.preSweeps}) {
+            MultigridSettings settings;
+            settings.preSweeps = settings.postSweeps = sweeps;
+            Multigrid<double> mg(settings);
+            mg.prepareSystem(c.model, {}, c.state, inputOf(c), true);
+            std::mt19937 rng(11);
+            std::normal_distribution<Scalar> normal;
+            Eigen::VectorXd b(3 * c.model.particleCount());
+            for (Index q = 0; q < b.size(); ++q) b[q] = sys.pinned[q / 3] ? 0.0 : normal(rng);
+            const Eigen::VectorXd x = mg.vcycle(b);
+            const Scalar reduction = (b - W * x).norm() / b.norm();
+            const Scalar required = sweeps >= 2 || !s.mesh ? 5 : 3;
+            EXPECT_LT(reduction * required, 1) << s.nx << "x" << s.ny << (s.mesh ? " mesh" : " grid") << ", V("
+                                               << sweeps << "," << sweeps << "), levels " << mg.describeHierarchy();
+            EXPECT_GE(mg.levels(), 3) << mg.describeHierarchy();
+        }
     }
 }
 

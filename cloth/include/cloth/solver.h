@@ -50,7 +50,7 @@ struct MultigridSettings {
     int cycles = 0;            // fixed number of V-cycles; 0 = until the relative residual < tolerance
     double tolerance = 1e-3;
     int maxCycles = 16;        // cap of the adaptive mode
-    int preSweeps = 2, postSweeps = 2;  // smoothing sweeps around each coarse correction
+    int preSweeps = 1, postSweeps = 1;  // smoothing sweeps around each coarse correction
     double damping = 0.7;      // smoother: x += damping W_ii^-1 r
     enum class Coarsening { Auto, Geometric, Aggregation };
     Coarsening coarsening = Coarsening::Auto;  // Auto: geometric on grids, aggregation otherwise
