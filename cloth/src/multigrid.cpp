@@ -228,31 +228,35 @@ std::size_t spacedLength(std::size_t len) {
 }
 
 template <class T>
-void BlockMatrix<T>::layout(bool allowBands) {
-    offsets.clear();
-    pad = 0;
-    at.assign(std::size_t(n + slots), 0);
+std::vector<int> BlockMatrix<T>::bandOffsets() const {
     // Banded needs one entry per (row, column): two springs between the same particles (a mesh
     // may have them) would share a band position.
-    bool distinct = true;
     std::vector<int> all, row;
     for (int i = 0; i < n; ++i) {
         row.assign(col.begin() + start[i], col.begin() + start[i + 1]);
         std::sort(row.begin(), row.end());
-        distinct = distinct && std::adjacent_find(row.begin(), row.end()) == row.end();
+        if (std::adjacent_find(row.begin(), row.end()) != row.end()) return {};
         for (int j : row)
             if (j > i) all.push_back(j - i);
     }
     std::sort(all.begin(), all.end());
     all.erase(std::unique(all.begin(), all.end()), all.end());
-    if (!allowBands || !distinct || all.empty() || int(all.size()) > kMaxBands || n < 64) {
+    if (int(all.size()) > kMaxBands || n < 64) return {};
+    return all;
+}
+
+template <class T>
+void BlockMatrix<T>::layout(bool allowBands) {
+    offsets = allowBands ? bandOffsets() : std::vector<int>{};
+    pad = 0;
+    at.assign(std::size_t(n + slots), 0);
+    if (offsets.empty()) {
         stride = 1;
         for (int b = 0; b < n + slots; ++b) at[b] = 6 * std::size_t(b);
         values.assign(6 * std::size_t(n + slots), T(0));
         blocks.clear();
         return;
     }
-    offsets = all;
     pad = offsets.back();
     stride = spacedLength<T>(std::size_t(n + pad));
     for (int i = 0; i < n; ++i) {
@@ -341,6 +345,127 @@ struct SpringSet {
     }
 };
 
+// The springs of a banded grid level (level 0, and re-discretized coarse levels), by band: slot p
+// of band k joins particles p and p + o_k, as the bands of W hold W_{p, p + o_k}. The per-step
+// passes then run down contiguous arrays and vectorize, as the paper's stencil step does; a slot
+// with no spring has k = 0 and contributes exact zeros. Positions, velocities and the free-row
+// mask are structure-of-arrays with `pad` zeros on both sides.
+template <class T>
+struct BandedSprings {
+    int n = 0, pad = 0;
+    std::vector<int> offsets;
+    std::vector<T> k, rest;          // band-major, n per band
+    std::vector<double> xyz, vel;    // 3 arrays of n + 2 pad each
+    std::vector<T> freeRow;          // n + 2 pad: 1 where the particle is free
+    std::vector<T> bterm;            // 3 arrays per band of btStride, pad zeros first
+    std::size_t btStride = 0;
+
+    bool used() const { return !offsets.empty(); }
+    std::size_t len() const { return std::size_t(n) + 2 * std::size_t(pad); }
+    const double* x(int a) const { return xyz.data() + a * len() + pad; }
+    const double* v(int a) const { return vel.data() + a * len() + pad; }
+    T* bt(int band, int a) { return bterm.data() + (3 * std::size_t(band) + a) * btStride + pad; }
+};
+
+template <class T>
+struct BandSpringArgs {
+    const double *x0, *x1, *x2, *v0, *v1, *v2;  // v0 null: no right-hand side
+    const T *k, *rest, *freeRow;
+    T* o[6];    // the band's six arrays of W, at row 0
+    T* copy;    // the band's blocks in BlockMatrix::blocks (6 per slot)
+    T* bt[3];
+    int offset;
+    T h, h2;
+    bool compressionRule;
+};
+
+// Eqs. 15-17 for the slots [begin, end) of one band: W's block -h^2 J (zero where an end is pinned
+// or there is no spring) into the band and BlockMatrix::blocks, and with velocities (WithRhs) the term
+// of b for the lower end, h fm u + h^2 J (v_upper - v_lower) (the upper end's is the negative).
+template <class T, bool WithRhs>
+CLOTH_SIMD_CLONES void bandSpringKernel(const BandSpringArgs<T>& a, int begin, int end) {
+    const int d = a.offset;
+    const double *__restrict x0 = a.x0, *__restrict x1 = a.x1, *__restrict x2 = a.x2;
+    const double *__restrict v0 = a.v0, *__restrict v1 = a.v1, *__restrict v2 = a.v2;
+    const T *__restrict k = a.k, *__restrict rest = a.rest, *__restrict freeRow = a.freeRow;
+    T *__restrict o0 = a.o[0], *__restrict o1 = a.o[1], *__restrict o2 = a.o[2];
+    T *__restrict o3 = a.o[3], *__restrict o4 = a.o[4], *__restrict o5 = a.o[5];
+    T *__restrict copy = a.copy, *__restrict b0 = a.bt[0], *__restrict b1 = a.bt[1], *__restrict b2 = a.bt[2];
+    const T h = a.h, h2 = a.h2;
+    const bool compressionRule = a.compressionRule;
+CLOTH_IVDEP
+    for (int p = begin; p < end; ++p) {
+        const SpringTerms<T> t = springTerms(T(x0[p + d] - x0[p]), T(x1[p + d] - x1[p]), T(x2[p + d] - x2[p]), k[p],
+                                             rest[p], compressionRule);
+        const T J0 = t.a + t.b * t.ux * t.ux, J1 = t.b * t.ux * t.uy, J2 = t.b * t.ux * t.uz;
+        const T J3 = t.a + t.b * t.uy * t.uy, J4 = t.b * t.uy * t.uz, J5 = t.a + t.b * t.uz * t.uz;
+        const T scale = freeRow[p] * freeRow[p + d] * -h2;
+        o0[p] = scale * J0;
+        o1[p] = scale * J1;
+        o2[p] = scale * J2;
+        o3[p] = scale * J3;
+        o4[p] = scale * J4;
+        o5[p] = scale * J5;
+        if constexpr (WithRhs) {
+            const T q0 = T(v0[p + d] - v0[p]), q1 = T(v1[p + d] - v1[p]), q2 = T(v2[p + d] - v2[p]);
+            b0[p] = h * t.fm * t.ux + h2 * (J0 * q0 + J1 * q1 + J2 * q2);
+            b1[p] = h * t.fm * t.uy + h2 * (J1 * q0 + J3 * q1 + J4 * q2);
+            b2[p] = h * t.fm * t.uz + h2 * (J2 * q0 + J4 * q1 + J5 * q2);
+        }
+    }
+    // The block copy in a loop of its own: interleaved stores in the loop above stop it vectorizing.
+    for (int p = begin; p < end; ++p) {
+        copy[6 * p] = o0[p], copy[6 * p + 1] = o1[p], copy[6 * p + 2] = o2[p];
+        copy[6 * p + 3] = o3[p], copy[6 * p + 4] = o4[p], copy[6 * p + 5] = o5[p];
+    }
+}
+
+// Rows [begin, end) of a banded cloth level: D_i = base_i - sum over bands of (O_k[i] + O_k[i - o_k])
+// (W_ii = base + h^2 sum_j J_ij, eq. 12, from the blocks O = -h^2 J) into band 0, and with
+// velocities the springs' part of b_i, sum over bands of (bt_k[i] - bt_k[i - o_k]), into b (3n).
+template <class T>
+CLOTH_SIMD_CLONES void bandRowSums(BlockMatrix<T>& A, const T* base, BandedSprings<T>& S, bool withRhs, T* b,
+                                   int begin, int end) {
+    alignas(64) T acc[9][kTile];
+    const std::size_t st = A.stride;
+    const int bands = int(A.offsets.size());
+    T* V = A.values.data() + A.pad;
+    for (int first = begin; first < end; first += kTile) {
+        const int count = std::min(kTile, end - first);
+        for (int t = 0; t < count; ++t) {
+            for (int c = 0; c < 6; ++c) acc[c][t] = base[6 * std::size_t(first + t) + c];
+            acc[6][t] = acc[7][t] = acc[8][t] = T(0);
+        }
+        for (int k = 1; k <= bands; ++k) {
+            const int o = A.offsets[k - 1];
+            for (const int row : {first, first - o}) {
+                for (int c = 0; c < 6; ++c) {
+                    const T* __restrict O = V + (6 * std::size_t(k) + c) * st + row;
+                    T* __restrict y = acc[c];
+CLOTH_IVDEP
+                    for (int t = 0; t < count; ++t) y[t] -= O[t];
+                }
+                if (!withRhs) continue;
+                for (int c = 0; c < 3; ++c) {
+                    const T* __restrict B = S.bt(k - 1, c) + row;
+                    T* __restrict y = acc[6 + c];
+                    if (row == first) {
+CLOTH_IVDEP
+                        for (int t = 0; t < count; ++t) y[t] += B[t];
+                    } else {
+CLOTH_IVDEP
+                        for (int t = 0; t < count; ++t) y[t] -= B[t];
+                    }
+                }
+            }
+        }
+        for (int c = 0; c < 6; ++c) std::copy(acc[c], acc[c] + count, V + c * st + first);
+        if (withRhs)
+            for (int t = 0; t < count; ++t)
+                for (int c = 0; c < 3; ++c) b[3 * std::size_t(first + t) + c] = acc[6 + c][t];
+    }
+}
+
 // A coarse grid cloth with the same rectangle, stiffness per spring kind and total mass as `fine`.
 Model coarserCloth(const Model& fine, int cx, int cy) {
     const int nx = fine.gridNx(), ny = fine.gridNy();
@@ -382,7 +507,8 @@ struct Multigrid<T>::Impl {
         // Levels that carry a cloth (level 0, and re-discretized coarse levels): its springs,
         // positions, pinned rows and the spring-free part of W_ii (mass, drag, damping).
         std::shared_ptr<const Model> cloth;
-        SpringSet<T> springs;
+        SpringSet<T> springs;       // gathered levels
+        BandedSprings<T> band;      // banded levels
         Transfer sample;  // positions of this level from the finer level's (re-discretized)
         std::vector<double> pos;
         std::vector<T> base;
@@ -400,8 +526,14 @@ struct Multigrid<T>::Impl {
     void prepare(const Model& model);
     void buildFine(const Model& model, const Environment& env, const State& state, const StepInput& input,
                    bool compressionRule);
+    void useSprings(Level& L, const Model& cloth);
+    template <class RowTerms>
+    void buildCloth(int l, const double* xs, const double* vs, T h, T h2, bool compressionRule, const RowTerms& rowTerms);
     template <class RowTerms>
     void assembleCloth(int l, T h2, bool withRhs, const RowTerms& rowTerms);
+    template <class RowTerms>
+    void assembleBanded(int l, const double* xs, const double* vs, T h, T h2, bool compressionRule,
+                        const RowTerms& rowTerms);
     void rediscretize(int l, T h2, bool compressionRule);
     void galerkin(int l);
     void coarseOperators(T h2, bool compressionRule);
@@ -435,7 +567,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
         L0.A.col = model.adjOther();
         L0.A.slot = model.adjSpring();
         L0.A.slots = model.springCount();
-        L0.springs.assign(model);
+        useSprings(L0, model);
         L0.pinned.assign(n, 0);
         L0.base.assign(6 * std::size_t(n), T(0));
     }
@@ -488,7 +620,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
                 coarse.A.col = c.adjOther();
                 coarse.A.slot = c.adjSpring();
                 coarse.A.slots = c.springCount();
-                coarse.springs.assign(c);
+                useSprings(coarse, c);
                 coarse.pinned.assign(coarse.A.n, 0);
                 coarse.base.assign(6 * std::size_t(coarse.A.n), T(0));
                 coarse.pos.assign(3 * std::size_t(coarse.A.n), 0.0);
@@ -579,13 +711,142 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
     }
     coarseningName = label.str() + (rediscretized ? " (re-discretized)" : " (Galerkin)");
     for (Level& L : levels) {
-        L.A.layout(&L != &levels.back());  // the last level is factored, not multiplied
+        L.A.layout(&L != &levels.back() || L.band.used());  // the last level is factored, not multiplied
         L.xStride = spacedLength<T>(std::size_t(L.A.n + 2 * L.A.pad));
         L.xs.assign(L.A.banded() ? 3 * L.xStride : 0, T(0));
         L.dinv.assign(6 * std::size_t(L.A.n), T(0));
         L.active.assign(L.A.n, T(0));
         for (auto* v : {&L.x, &L.b, &L.r}) v->assign(3 * std::size_t(L.A.n), T(0));
     }
+}
+
+// A level that carries a cloth (its A's pattern set from the cloth's springs): banded springs
+// where A can be banded, with A's slots renumbered band-major (slot k n + p: band k, row p, holes
+// included), else the gathered spring set (slot = spring).
+template <class T>
+void Multigrid<T>::Impl::useSprings(Level& L, const Model& cloth) {
+    BandedSprings<T>& B = L.band;
+    B.offsets = L.A.bandOffsets();
+    if (!B.used()) {
+        L.springs.assign(cloth);
+        return;
+    }
+    const int n = L.A.n, bands = int(B.offsets.size());
+    auto bandOf = [&B](int d) { return int(std::lower_bound(B.offsets.begin(), B.offsets.end(), d) - B.offsets.begin()); };
+    B.n = n;
+    B.pad = B.offsets.back();
+    B.k.assign(std::size_t(bands) * n, T(0));
+    B.rest.assign(std::size_t(bands) * n, T(0));
+    for (const Spring& sp : cloth.springs()) {
+        const int lo = int(std::min(sp.i, sp.j));
+        const std::size_t at = std::size_t(bandOf(int(std::max(sp.i, sp.j)) - lo)) * n + lo;
+        B.k[at] = T(sp.k), B.rest[at] = T(sp.rest);
+    }
+    for (int i = 0; i < n; ++i)
+        for (int e = L.A.start[i]; e < L.A.start[i + 1]; ++e) {
+            const int j = L.A.col[e];
+            L.A.slot[e] = bandOf(std::abs(j - i)) * n + std::min(i, j);
+        }
+    L.A.slots = bands * n;
+    B.xyz.assign(3 * B.len(), 0.0);
+    B.vel.assign(3 * B.len(), 0.0);
+    B.freeRow.assign(B.len(), T(0));
+    B.btStride = spacedLength<T>(std::size_t(n + B.pad));
+    B.bterm.assign(3 * std::size_t(bands) * B.btStride, T(0));
+}
+
+template <class T>
+template <class RowTerms>
+void Multigrid<T>::Impl::buildCloth(int l, const double* xs, const double* vs, T h, T h2, bool compressionRule,
+                                    const RowTerms& rowTerms) {
+    Level& L = levels[l];
+    if (L.band.used()) {
+        assembleBanded(l, xs, vs, h, h2, compressionRule, rowTerms);
+        return;
+    }
+    L.springs.compute(xs, vs, h, h2, L.pinned.data(), compressionRule, L.A, pool);
+    assembleCloth(l, h2, vs != nullptr, rowTerms);
+}
+
+// W (and with velocities vs, b) of a banded cloth level: the springs band by band
+// (bandSpringKernel), the row sums (bandRowSums), then, for each spring with a pinned end, h^2 J
+// on the free end's diagonal and h^2 J dv_pinned in its b (the block itself is zero: the pinned
+// particle is not an unknown), then per row the terms of b without springs (rowTerms), the
+// inverse diagonal, and empty rows for pinned particles. The same W and b as assembleCloth.
+template <class T>
+template <class RowTerms>
+void Multigrid<T>::Impl::assembleBanded(int l, const double* xs, const double* vs, T h, T h2, bool compressionRule,
+                                        const RowTerms& rowTerms) {
+    Level& L = levels[l];
+    BandedSprings<T>& B = L.band;
+    BlockMatrix<T>& A = L.A;
+    const int n = A.n, bands = int(B.offsets.size());
+    const bool withRhs = vs != nullptr;
+    pool.run(n, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+            for (int a = 0; a < 3; ++a) {
+                B.xyz[a * B.len() + B.pad + i] = xs[3 * std::size_t(i) + a];
+                if (withRhs) B.vel[a * B.len() + B.pad + i] = vs[3 * std::size_t(i) + a];
+            }
+            B.freeRow[B.pad + i] = L.pinned[i] ? T(0) : T(1);
+        }
+    });
+    for (int k = 0; k < bands; ++k) {
+        BandSpringArgs<T> args;
+        args.x0 = B.x(0), args.x1 = B.x(1), args.x2 = B.x(2);
+        args.v0 = withRhs ? B.v(0) : nullptr, args.v1 = B.v(1), args.v2 = B.v(2);
+        args.k = &B.k[std::size_t(k) * n], args.rest = &B.rest[std::size_t(k) * n];
+        args.freeRow = B.freeRow.data() + B.pad;
+        for (int c = 0; c < 6; ++c) args.o[c] = A.values.data() + (6 * std::size_t(k + 1) + c) * A.stride + A.pad;
+        args.copy = &A.blocks[6 * (std::size_t(n) + std::size_t(k) * n)];
+        for (int c = 0; c < 3; ++c) args.bt[c] = B.bt(k, c);
+        args.offset = B.offsets[k];
+        args.h = h, args.h2 = h2;
+        args.compressionRule = compressionRule;
+        pool.run(n, [&](int begin, int end) {
+            if (withRhs) bandSpringKernel<T, true>(args, begin, end);
+            else bandSpringKernel<T, false>(args, begin, end);
+        });
+    }
+    pool.run(n, [&](int begin, int end) { bandRowSums(A, L.base.data(), B, withRhs, L.b.data(), begin, end); });
+    T* D = A.values.data() + A.pad;
+    const std::size_t st = A.stride;
+    for (int p = 0; p < n; ++p) {  // springs with a pinned end (few; in a fixed order)
+        if (!L.pinned[p]) continue;
+        for (int k = 0; k < bands; ++k) {
+            const int o = B.offsets[k];
+            for (const int q : {p + o, p - o}) {
+                const int lo = std::min(p, q);
+                if (q < 0 || q >= n || L.pinned[q] || B.k[std::size_t(k) * n + lo] == T(0)) continue;
+                const SpringTerms<T> t = springTerms(T(B.x(0)[lo + o] - B.x(0)[lo]), T(B.x(1)[lo + o] - B.x(1)[lo]),
+                                                     T(B.x(2)[lo + o] - B.x(2)[lo]), B.k[std::size_t(k) * n + lo],
+                                                     B.rest[std::size_t(k) * n + lo], compressionRule);
+                const T J[6] = {t.a + t.b * t.ux * t.ux, t.b * t.ux * t.uy, t.b * t.ux * t.uz,
+                                t.a + t.b * t.uy * t.uy, t.b * t.uy * t.uz, t.a + t.b * t.uz * t.uz};
+                for (int c = 0; c < 6; ++c) D[c * st + q] += h2 * J[c];
+                if (withRhs) {
+                    T Jq[3];
+                    symmetricTimes(J, &pinDv[3 * std::size_t(p)], Jq);
+                    for (int a = 0; a < 3; ++a) L.b[3 * std::size_t(q) + a] += h2 * Jq[a];
+                }
+            }
+        }
+    }
+    pool.run(n, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+            const bool free = !L.pinned[i];
+            T Di[6];
+            for (int c = 0; c < 6; ++c) Di[c] = free ? D[c * st + i] : T(0);
+            A.put(i, Di);
+            symmetricInverse(Di, &L.dinv[6 * std::size_t(i)]);
+            L.active[i] = free ? T(1) : T(0);
+            T* bi = &L.b[3 * std::size_t(i)];
+            if (withRhs) {
+                rowTerms(i, bi);
+                if (!free) bi[0] = bi[1] = bi[2] = T(0);
+            }
+        }
+    });
 }
 
 // W of a level that carries a cloth, from its springs' blocks (SpringSet::compute, which wrote
@@ -674,8 +935,7 @@ void Multigrid<T>::Impl::buildFine(const Model& model, const Environment& env, c
             B[3] += h * T(C(1, 1)), B[4] += h * T(C(1, 2)), B[5] += h * T(C(2, 2));
         }
     }
-    L.springs.compute(xs, vs, h, h2, L.pinned.data(), compressionRule, L.A, pool);
-    assembleCloth(0, h2, true, [&](int i, T* r) {  // + h (m (g - c v) + external)
+    buildCloth(0, xs, vs, h, h2, compressionRule, [&](int i, T* r) {  // + h (m (g - c v) + external)
         const T m = T(mass[i]);
         for (int a = 0; a < 3; ++a)
             r[a] += h * (m * (g[a] - c * T(vs[3 * i + a])) + (ext ? T(ext[3 * i + a]) : T(0)));
@@ -711,8 +971,7 @@ void Multigrid<T>::Impl::rediscretize(int l, T h2, bool compressionRule) {
             C.pinned[I] = pinned;
         }
     });
-    C.springs.compute(C.pos.data(), nullptr, T(0), h2, C.pinned.data(), compressionRule, C.A, pool);
-    assembleCloth(l + 1, h2, false, [](int, T*) {});
+    buildCloth(l + 1, C.pos.data(), nullptr, T(0), h2, compressionRule, [](int, T*) {});
 }
 
 template <class T>

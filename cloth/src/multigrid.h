@@ -65,6 +65,9 @@ struct BlockMatrix {
 
     int entries() const { return int(col.size()); }
     bool banded() const { return !offsets.empty(); }
+    // The pattern's distinct column offsets j - i > 0 if it can be banded (one entry per row and
+    // column, at most kMaxBands offsets, n >= 64), else empty.
+    std::vector<int> bandOffsets() const;
     // Chooses the layout (banded where the pattern allows and allowBands) and zeroes the values.
     void layout(bool allowBands);
     // Block b's six numbers, contiguous (either layout).
