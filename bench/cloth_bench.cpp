@@ -83,6 +83,7 @@ BENCHMARK_CAPTURE(stepFlag, kangcho_fast_float, "kangcho:precision=float")->Appl
 BENCHMARK_CAPTURE(stepFlag, kangcho_gather_double, "kangcho:impl=gather")->Args({33, 1})->Args({129, 1})->Args({129, 2})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, kangcho_reference, "kangcho:impl=reference")->Args({33, 1})->Args({129, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, kangcho_4_iterations, "kangcho:iterations=4")->Args({33, 1})->Unit(benchmark::kMicrosecond);
+// The second argument is the thread count (0: a solver without a thread setting).
 // Multigrid on the same system: one fixed V-cycle, two, and the adaptive default (until the
 // relative residual is under 1e-2, at most 8 cycles), next to the paper's step at every size.
 BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_double, "multigrid:cycles=1")->Apply(sizes)->Unit(benchmark::kMicrosecond);
@@ -93,10 +94,10 @@ BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_v22_double, "multigrid:cycles=1,pr
 BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_v22_double, "multigrid:pre_sweeps=2,post_sweeps=2")->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_double, "multigrid")->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_float, "multigrid:precision=float")->Apply(sizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, exact_multigrid, "exact:method=multigrid")->Args({33, 1})->Args({129, 1})->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, exact_cholesky, "exact")->Args({17, 1})->Args({33, 1})->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, cg_1e-6, "cg:tolerance=1e-6")->Args({33, 1})->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, explicit_1_substep, "explicit")->Args({33, 1})->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, exact_multigrid, "exact:method=multigrid")->Args({33, 0})->Args({129, 0})->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, exact_cholesky, "exact")->Args({17, 0})->Args({33, 0})->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, cg_1e-6, "cg:tolerance=1e-6")->Args({33, 0})->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, explicit_1_substep, "explicit")->Args({33, 0})->Unit(benchmark::kMicrosecond);
 #ifdef FLAGSIM_HAS_BULLET_PEER
 // Bullet's default (1 position iteration, the same count as the paper's one Jacobi sweep) and more.
 BENCHMARK(stepBullet)->Args({33, 1})->Args({33, 4})->Args({33, 10})->Args({129, 1})->Unit(benchmark::kMicrosecond);
