@@ -48,9 +48,9 @@ struct MultigridStats {
 //             arrays over rows, zero where the row has no such entry, so that a product runs down
 //             the bands and vectorizes over rows; W_{i, i - o} = W_{i - o, i} reads the same arrays
 //             shifted (rows -pad .. -1 of every array are zero). The blocks are kept a second
-//             time, block after block (`blocks`), for the readers that visit them by index (the
-//             diagonal's sums, the Galerkin product): there a block's six numbers share a cache
-//             line instead of lying in six arrays (at 129x129 the Galerkin product took 1.9x less time).
+//             time, block after block (`blocks`), for the Galerkin product, which visits them by
+//             index: there a block's six numbers share a cache line instead of lying in six
+//             arrays (at 129x129 the Galerkin product took 1.9x less time).
 template <class T>
 struct BlockMatrix {
     static constexpr int kMaxBands = 24;
