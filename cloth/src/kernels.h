@@ -33,6 +33,13 @@ template <class T>
     return {dx * inv, dy * inv, dz * inv, live ? k * (T(1) - ratio) : T(0), k * ratio, live ? k * (L - rest) : T(0)};
 }
 
+// J = a I + b u u^T of a spring's terms, as 6 numbers (xx xy xz yy yz zz).
+template <class T>
+[[gnu::always_inline]] inline void jacobianOf(const SpringTerms<T>& t, T* J) {
+    J[0] = t.a + t.b * t.ux * t.ux, J[1] = t.b * t.ux * t.uy, J[2] = t.b * t.ux * t.uz;
+    J[3] = t.a + t.b * t.uy * t.uy, J[4] = t.b * t.uy * t.uz, J[5] = t.a + t.b * t.uz * t.uz;
+}
+
 inline SpringTerms<Scalar> springTerms(const Vec3& xi, const Vec3& xj, Scalar k, Scalar rest, bool compressionRule) {
     const Vec3 d = xj - xi;
     return springTerms(d.x(), d.y(), d.z(), k, rest, compressionRule);

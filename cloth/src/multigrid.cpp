@@ -323,8 +323,8 @@ struct SpringSet {
                 const int i = si[s], j = sj[s];
                 const SpringTerms<T> t = springTerms(T(xs[3 * j] - xs[3 * i]), T(xs[3 * j + 1] - xs[3 * i + 1]),
                                                      T(xs[3 * j + 2] - xs[3 * i + 2]), k[s], rest[s], compressionRule);
-                const T J[6] = {t.a + t.b * t.ux * t.ux, t.b * t.ux * t.uy, t.b * t.ux * t.uz,
-                                t.a + t.b * t.uy * t.uy, t.b * t.uy * t.uz, t.a + t.b * t.uz * t.uz};
+                T J[6];
+                jacobianOf(t, J);
                 const bool pinnedEnd = pinned[i] || pinned[j];
                 if (pinnedEnd) std::copy(J, J + 6, &pinnedJ[6 * std::size_t(s)]);
                 const T scale = pinnedEnd ? T(0) : -h2;
@@ -397,8 +397,9 @@ CLOTH_IVDEP
     for (int p = begin; p < end; ++p) {
         const SpringTerms<T> t = springTerms(T(x0[p + d] - x0[p]), T(x1[p + d] - x1[p]), T(x2[p + d] - x2[p]), k[p],
                                              rest[p], compressionRule);
-        const T J0 = t.a + t.b * t.ux * t.ux, J1 = t.b * t.ux * t.uy, J2 = t.b * t.ux * t.uz;
-        const T J3 = t.a + t.b * t.uy * t.uy, J4 = t.b * t.uy * t.uz, J5 = t.a + t.b * t.uz * t.uz;
+        T J[6];
+        jacobianOf(t, J);
+        const T J0 = J[0], J1 = J[1], J2 = J[2], J3 = J[3], J4 = J[4], J5 = J[5];
         const T scale = freeRow[p] * freeRow[p + d] * -h2;
         o0[p] = scale * J0;
         o1[p] = scale * J1;
@@ -821,8 +822,8 @@ void Multigrid<T>::Impl::assembleBanded(int l, const double* xs, const double* v
                 const SpringTerms<T> t = springTerms(T(B.x(0)[lo + o] - B.x(0)[lo]), T(B.x(1)[lo + o] - B.x(1)[lo]),
                                                      T(B.x(2)[lo + o] - B.x(2)[lo]), B.k[std::size_t(k) * n + lo],
                                                      B.rest[std::size_t(k) * n + lo], compressionRule);
-                const T J[6] = {t.a + t.b * t.ux * t.ux, t.b * t.ux * t.uy, t.b * t.ux * t.uz,
-                                t.a + t.b * t.uy * t.uy, t.b * t.uy * t.uz, t.a + t.b * t.uz * t.uz};
+                T J[6];
+                jacobianOf(t, J);
                 for (int c = 0; c < 6; ++c) D[c * st + q] += h2 * J[c];
                 if (withRhs) {
                     T Jq[3];
