@@ -312,9 +312,8 @@ struct SpringSet {
     }
     // Eqs. 15-17 at positions xs (3n, particle-major), once per spring. Each spring's block of W,
     // -h^2 J, goes to W's slot s (zero where an end is pinned, and then J to pinnedJ, for the free
-    // end's diagonal); with velocities vs, its term of b
-    // for the row of its i end, h fm u + h^2 J (v_j - v_i), goes to bterm[3 s] (the j end's is
-    // the negative).
+    // end's diagonal); with velocities vs, its term of b for the row of its i end,
+    // h fm u + h^2 J (v_j - v_i), goes to bterm[3 s] (the j end's is the negative).
     void compute(const double* xs, const double* vs, T h, T h2, const unsigned char* pinned, bool compressionRule,
                  BlockMatrix<T>& W, ThreadPool& pool) {
         if (vs) bterm.resize(3 * si.size());
@@ -850,7 +849,8 @@ void Multigrid<T>::Impl::assembleBanded(int l, const double* xs, const double* v
     });
 }
 
-// W of a level that carries a cloth, from its springs' blocks (SpringSet::compute, which wrote
+// W of a gathered level that carries a cloth (a mesh; banded levels: assembleBanded), from its
+// springs' blocks (SpringSet::compute, which wrote
 // W_ij = -h^2 J_ij, eqs. 16, 17): W_ii = base_i + h^2 sum_j J_ij (eq. 12); rows and columns of
 // pinned particles are zero. With a right-hand side (level 0): b_i = the sum of its springs'
 // terms (SpringSet::bterm, signed by the end) + h^2 J_ij dv_j for each pinned neighbour j (its
