@@ -2,7 +2,8 @@
 """Checks a study's outputs: every column and every solver family present, figures written.
 
     tools/study/check_study.py out/study      (exit 1 with the reason when something is missing)
-    tools/study/check_study.py --newton out/study  (also: Newton's three solvers at every scene and size)
+    tools/study/check_study.py --newton out/study  (also: Newton's three solvers at every scene and size,
+                                                    and at every extreme case and size it was given)
     tools/study/check_study.py --extremes DIR (only: the demo's default is stable in every extreme case)
 """
 import csv
@@ -69,13 +70,40 @@ def check_everywhere(rows, newton_rows):
     return problems
 
 
+EXTREME_COLUMNS = ["ms_per_tick", "max_stretch", "peak_stretch", "p99_stretch", "late_max_stretch"]
+
+
+def check_newton_extremes(d):
+    """newton_extreme.csv: each of Newton's three solvers at every extreme case and size it holds,
+    each row with its cost and stretch or with the reason it has none."""
+    try:
+        with open(os.path.join(d, "newton_extreme.csv"), newline="") as f:
+            reader = csv.DictReader(f)
+            missing = [c for c in EXTREME_COLUMNS + ["note"] if c not in reader.fieldnames]
+            rows = list(reader)
+    except OSError as e:
+        return [f"--newton: {e}"]
+    if missing:
+        return [f"newton_extreme.csv: missing columns {missing}"]
+    problems = []
+    for case, size in sorted({(r["case"], r["size"]) for r in rows}):
+        here = [r for r in rows if (r["case"], r["size"]) == (case, size)]
+        if NEWTON_FAMILIES - {r["config"] for r in here}:
+            problems.append(f"newton_extreme.csv {case} {size}: no rows for {sorted(NEWTON_FAMILIES - {r['config'] for r in here})}")
+        for r in here:
+            if num(r["p99_stretch"]) != num(r["p99_stretch"]) and not r["note"]:
+                problems.append(f"newton_extreme.csv {case} {size} {r['solver']}: no result and no reason")
+    if not rows:
+        problems.append("newton_extreme.csv: no rows")
+    return problems
+
+
 def check_extremes(d):
     """Every extreme case must be stable with the demo's default configuration at 33x33 (at
     65x65 the demo's default is measured, not asserted: docs/study.md)."""
     with open(os.path.join(d, "extreme.csv"), newline="") as f:
         reader = csv.DictReader(f)
-        missing = [c for c in ["ms_per_tick", "max_stretch", "peak_stretch", "p99_stretch", "late_max_stretch"]
-                   if c not in reader.fieldnames]
+        missing = [c for c in EXTREME_COLUMNS if c not in reader.fieldnames]
         rows = [r for r in reader if r["config"] == "demo_default" and r["size"] == "33"]
     if missing:
         sys.exit(f"{d}/extreme.csv: missing columns {missing}")
@@ -116,10 +144,12 @@ def main():
             problems.append(f"--newton: {e}")
             newton_rows = []
     problems += check_everywhere(rows, newton_rows)
+    if newton:
+        problems += check_newton_extremes(d)
     if problems:
         sys.exit(f"{d}: " + "; ".join(problems))
     print(f"{d}: {len(rows)} rows, every column, solver family and scene present, multigrid"
-          f"{' and Newton' if newton else ''} at every scene and size; the findings hold")
+          f"{' and Newton' if newton else ''} at every scene and size{' (and its extreme cases)' if newton else ''}; the findings hold")
     check_extremes(d)
 
 

@@ -328,7 +328,77 @@ std::vector<Extreme> extremes() {
     return e;
 }
 
+// The demo's flag in case x at another resolution: same size, mass and stiffness, same aspect;
+// the case's mass scale and wind.
+engine::SceneConfig extremeScene(const engine::SceneConfig& demo, const Extreme& x, int size) {
+    engine::SceneConfig s = demo;
+    s.flag.ny = int(std::lround(1 + (size - 1) * double(demo.flag.ny - 1) / (demo.flag.nx - 1)));
+    s.flag.nx = size;
+    s.flag.mass *= x.massScale;
+    s.air.wind = Vec3(x.wind, 0, 0);
+    return s;
+}
+
+// The pole of the extreme cases: at the carrier's origin, as tall as the demo's.
+engine::PoleMount extremeMount(const engine::SceneConfig& demo) {
+    engine::PoleMount mount;
+    mount.base = Vec3(0, 0, 0);
+    mount.height = demo.vehicle.poleHeight;
+    return mount;
+}
+
 }  // namespace
+
+// One extreme case at one size, for the Newton harness: the demo's flag as engine::Flag builds it
+// (start positions and velocities, masses, springs, triangles, pins), every pin's target and the
+// carrier's velocity at the end of every 240 Hz tick, and the air and drag the flag feels (the
+// harness applies them as explicit external forces; it has no pole collision).
+void exportExtremeForNewton(const std::string& dir, const engine::SceneConfig& demo, const Extreme& x, int size) {
+    engine::SceneConfig s = extremeScene(demo, x, size);
+    s.flag.solver = configOf("kangcho:iterations=1");  // only the pins' path is read from its ticks
+    const engine::PoleMount mount = extremeMount(demo);
+    engine::Flag flag(s, mount, x.carrier(0));
+    const cloth::Model& m = flag.model();
+    const double h = 1.0 / s.physicsHz;
+    nlohmann::json j;
+    j["kind"] = "extreme";
+    j["case"] = x.name;
+    j["scene"] = x.name;
+    j["size"] = size;
+    j["stiffness"] = s.flag.stiffness.structural;
+    j["h"] = h;
+    j["gravity"] = {0.0, -9.81, 0.0};
+    j["jump_at"] = x.jumpAt;
+    j["duration"] = x.duration;
+    j["drag"] = s.flag.drag;
+    j["air"] = {{"enabled", (s.subsystems & engine::kAir) != 0},
+                {"wind", {s.air.wind.x(), s.air.wind.y(), s.air.wind.z()}},
+                {"density", s.air.density},
+                {"drag_coefficient", s.air.dragCoefficient},
+                {"lift_coefficient", s.air.liftCoefficient},
+                {"friction_coefficient", s.air.frictionCoefficient}};
+    for (cloth::Index i = 0; i < m.particleCount(); ++i) {
+        j["rest_positions"].push_back({flag.state().x(0, i), flag.state().x(1, i), flag.state().x(2, i)});
+        j["velocities"].push_back({flag.state().v(0, i), flag.state().v(1, i), flag.state().v(2, i)});
+        j["masses"].push_back(m.masses()[i]);
+    }
+    for (const cloth::Spring& sp : m.springs()) j["springs"].push_back({sp.i, sp.j, sp.k, sp.rest, cloth::toString(sp.kind)});
+    for (const cloth::Triangle& t : m.triangles()) j["triangles"].push_back({t[0], t[1], t[2]});
+    for (const cloth::Pin& p : flag.pins()) j["pinned"].push_back(p.particle);
+    int steps = 0;
+    for (int k = 1; k * h <= x.duration + 1e-9; ++k, ++steps) {
+        const engine::RigidFrame c = x.carrier(k * h);
+        flag.tick(h, c, {});
+        nlohmann::json targets = nlohmann::json::array();
+        for (const cloth::Pin& p : flag.pins()) targets.push_back({p.x.x(), p.x.y(), p.x.z()});
+        j["pin_positions"].push_back(std::move(targets));
+        j["carrier_velocity"].push_back({c.linearVelocity.x(), c.linearVelocity.y(), c.linearVelocity.z()});
+    }
+    j["steps"] = steps;
+    const std::string path = dir + "/extreme_" + x.name + "_" + std::to_string(size) + ".json";
+    std::ofstream(path + ".tmp") << j.dump() << "\n";
+    std::filesystem::rename(path + ".tmp", path);
+}
 
 // The flag and the pole motion of one configuration, for the Newton harness
 // (tools/study/newton_study.py): the same particles, masses, springs, triangles and pins, and every
@@ -381,8 +451,9 @@ vehicle path, a scan over stiffness and time step, and the demo's flag in six ex
                        its aspect)
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
                        numbers; tools/study/merge_shards.py joins the parts)
-  --export-newton DIR  write the flag and pole motion of every k=1e4, h=1/240 configuration as JSON
-                       for tools/study/newton_study.py, then stop
+  --export-newton DIR  write the flag and pole motion of every k=1e4, h=1/240 configuration, and of
+                       every extreme case and size (--quick: the teleport), as JSON for
+                       tools/study/newton_study.py, then stop
   --parallel           mark the timing columns as taken while other shards ran (timing=parallel)
   --help               this text
 )";
@@ -558,7 +629,11 @@ int main(int argc, char** argv) {
     if (!exportDir.empty()) {
         std::filesystem::create_directories(exportDir);
         for (const Config& c : configs)
-            if (c.k == 1e4 && c.h == 1.0 / 240) exportForNewton(exportDir, *c.scene, c.n, c.k, c.h, duration);
+            if (!extremesOnly && c.k == 1e4 && c.h == 1.0 / 240) exportForNewton(exportDir, *c.scene, c.n, c.k, c.h, duration);
+        if (doExtremes)  // --quick: the teleport only (the shortest case), to keep CI's run short
+            for (const Extreme& x : extremes())
+                if (!quick || x.name == "teleport_1m")
+                    for (const int size : extremeSizes) exportExtremeForNewton(exportDir, demo, x, size);
         std::fprintf(stderr, "flag and pole motion written to %s\n", exportDir.c_str());
         return 0;
     }
@@ -626,18 +701,11 @@ int main(int argc, char** argv) {
             for (const Variant& v : variants) {
                 ++row;
                 if (!mine()) continue;
-                engine::SceneConfig s = demo;
+                engine::SceneConfig s = extremeScene(demo, x, size);
                 s.flag.solver = configOf(v.solver);
                 s.flag.substeps = v.substeps;
                 if (v.implicitAir >= 0) s.flag.implicitAir = v.implicitAir == 1;
-                // The demo's flag at another resolution: same size, mass and stiffness, same aspect.
-                s.flag.ny = int(std::lround(1 + (size - 1) * double(demo.flag.ny - 1) / (demo.flag.nx - 1)));
-                s.flag.nx = size;
-                s.flag.mass *= x.massScale;
-                s.air.wind = Vec3(x.wind, 0, 0);
-                engine::PoleMount mount;
-                mount.base = Vec3(0, 0, 0);
-                mount.height = demo.vehicle.poleHeight;
+                const engine::PoleMount mount = extremeMount(demo);
                 engine::Flag flag(s, mount, x.carrier(0));
                 const double h = 1.0 / s.physicsHz;
                 // Stable: finite and bounded throughout (positions within 100 m of the pole, speeds

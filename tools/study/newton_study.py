@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Newton's cloth solvers on the study's flag and pole motion, as rows of the study's CSV.
 
-    tools/study/newton_study.py IN_DIR OUT_CSV [--solvers vbd,xpbd,style3d] [--max-size N]
+    tools/study/newton_study.py IN_DIR OUT_CSV [--solvers vbd,xpbd,style3d] [--max-size N] [--extreme-csv CSV]
 
 IN_DIR holds the JSON files of ``cloth_study --export-newton DIR`` (one per configuration: the
 particles, masses, springs, triangles, pinned particles and every pin's target at the end of every
@@ -131,6 +131,21 @@ first). Stretch is measured over the structural springs, as cloth_study's part 1
 unstable as soon as any step's stretch exceeds 1.0 (``StabilityLimits``); this harness looks at
 the last 0.25 s instead.
 
+Extreme cases
+-------------
+A JSON with ``"kind": "extreme"`` is one of cloth_study's extreme cases at one size (the demo's flag,
+k = 1e3 / 1e2 / 5 N/m, on a carrier driven through the case; pins and the carrier's velocity per
+240 Hz tick; its start velocities). It adds what the flag feels there: our air model (cloth/air.h,
+pressure drag, skin friction and lift per triangle, evaluated here in numpy; checked equal to the
+C++ to 4e-16 N on a 33x33 gale state) and the linear drag, both evaluated at the state before each
+Newton step and passed as ``state.particle_f`` (the external force that VBD's forward step, XPBD's
+integrate_particles and Style3D's init step read), i.e. explicit air. There is no pole collision.
+Its row goes to the extreme CSV (``--extreme-csv``, default newton_extreme.csv beside OUT_CSV) with
+cloth_study's extreme.csv metrics: peak_stretch leaves out the 0.25 s after the pole's jump,
+late_max_stretch and the stability rule look at the last second, max_speed is relative to the
+carrier, and ms_per_tick includes the numpy air (ours includes our air too). ``substeps=auto``
+above XPBD_MAX_AUTO_SUBSTEPS (128) is not run; the row says why.
+
 Warp compiles its kernels on first use (LLVM, CPU) and caches them in ~/.cache/warp/<version>. On
 the study's 2-core machine (with another build running beside it), vbd, xpbd and style3d on a 9x9
 and a 17x17 input of 240 steps took 74 s in all with an empty cache (about 55 s of it compiling
@@ -176,6 +191,13 @@ LATE_MAX_STRETCH = 0.5
 PIN_TOLERANCE = 1e-6  # m
 FROZEN_TOLERANCE = 1e-6  # m: a run whose free particles never move farther did not simulate
 XPBD_MARGIN = 2.0  # auto substeps: alpha >= XPBD_MARGIN * (w_i + w_j)
+XPBD_MAX_AUTO_SUBSTEPS = 128  # auto beyond this: the row says so instead of running for an hour
+EXTREME_COLUMNS = [
+    "case", "size", "config", "solver", "stable", "fail_step", "ms_per_tick", "timing", "max_stretch",
+    "peak_stretch", "p99_stretch", "late_max_stretch", "max_speed", "note",
+]
+EXTREME_LATE_WINDOW = 1.0  # s: cloth_study's extreme cases judge the last second
+JUMP_WINDOW = 0.25  # s after a jump of the pole that peak_stretch leaves out (as cloth_study)
 
 
 class InputError(Exception):
@@ -204,6 +226,13 @@ class Case:
     triangles: np.ndarray  # (t, 3) int
     pinned: np.ndarray  # (p,) int
     pin_targets: np.ndarray  # (steps, p, 3): target at the end of step s
+    # Extreme cases (``"kind": "extreme"``) also give:
+    kind: str = "config"
+    velocities: np.ndarray | None = None  # (n, 3) start velocities (else at rest)
+    air: dict | None = None  # our air model's parameters, applied as an explicit external force
+    drag: float = 0.0  # linear drag rate, 1/s: f = -drag m v
+    jump_at: float = -1.0  # s: when the pole jumps (teleport), else < 0
+    carrier_velocity: np.ndarray | None = None  # (steps, 3): the carrier's velocity at the end of step s
 
     @property
     def n(self) -> int:
@@ -251,7 +280,19 @@ def load_case(path: Path) -> Case:
         triangles=read("triangles", indices(3)),
         pinned=read("pinned", lambda v: np.asarray(v, dtype=np.int64).reshape(-1)),
         pin_targets=read("pin_positions", lambda v: np.asarray(v, dtype=float)),
+        kind=str(data.get("kind", "config")),
     )
+    if case.kind == "extreme":
+        for name in ("velocities", "air", "drag", "jump_at", "carrier_velocity"):
+            if name not in data:
+                raise InputError(f"{path}: missing field '{name}' (needed by an extreme case)")
+        case.velocities = read("velocities", points)
+        case.air = read("air", dict)
+        case.drag = read("drag", float)
+        case.jump_at = read("jump_at", float)
+        case.carrier_velocity = read("carrier_velocity", points)
+    elif case.kind != "config":
+        raise InputError(f"{path}: field 'kind': '{case.kind}' is neither 'config' nor 'extreme'")
     check_case(case)
     return case
 
@@ -272,6 +313,14 @@ def check_case(c: Case) -> None:
         bad("pin_positions", f"shape {c.pin_targets.shape}, expected ({c.steps}, {len(c.pinned)}, 3)")
     if not len(c.pinned):
         bad("pinned", "no pinned particle")
+    if c.velocities is not None and c.velocities.shape != (n, 3):
+        bad("velocities", f"shape {c.velocities.shape}, expected ({n}, 3)")
+    if c.carrier_velocity is not None and c.carrier_velocity.shape != (c.steps, 3):
+        bad("carrier_velocity", f"shape {c.carrier_velocity.shape}, expected ({c.steps}, 3)")
+    if c.air is not None:
+        for key in ("enabled", "wind", "density", "drag_coefficient", "lift_coefficient", "friction_coefficient"):
+            if key not in c.air:
+                bad("air", f"missing '{key}'")
     if c.h <= 0 or c.steps <= 0:
         bad("h" if c.h <= 0 else "steps", "must be positive")
     if (c.spring_rest <= 0).any():
@@ -301,6 +350,9 @@ def p99_nearest_rank(values: np.ndarray) -> float:
 class Metrics:
     max_stretch: float = 0.0
     p99_stretch: float = 0.0
+    peak_stretch: float = 0.0  # max_stretch without the JUMP_WINDOW after a jump of the pole
+    late_max_stretch: float = 0.0  # over the late window
+    max_speed: float = 0.0  # m/s relative to the carrier (extreme cases), from positions
     fail_step: int = -1
     reason: str = ""
     moved: float = 0.0  # farthest any free particle got from its start (m)
@@ -314,7 +366,8 @@ class Monitor:
         mask = np.isin(case.spring_kind, STRETCH_KINDS)
         self.ij, self.rest = case.spring_ij[mask], case.spring_rest[mask]
         self.case = case
-        self.late_from = case.steps - max(1, int(round(LATE_WINDOW / case.h)))
+        self.late_window = EXTREME_LATE_WINDOW if case.kind == "extreme" else LATE_WINDOW
+        self.late_from = case.steps - max(1, int(round(self.late_window / case.h)))
         self.prev = case.rest.copy()
         self.free = np.setdiff1d(np.arange(case.n), case.pinned)
         self.m = Metrics()
@@ -335,6 +388,12 @@ class Monitor:
         stretch = stretch_per_spring(x, self.ij, self.rest)
         top = float(stretch.max()) if len(stretch) else 0.0
         m.max_stretch = max(m.max_stretch, top)
+        t = (s + 1) * c.h
+        if not (c.jump_at >= 0 and c.jump_at <= t + 1e-9 and t < c.jump_at + JUMP_WINDOW - 1e-9):
+            m.peak_stretch = max(m.peak_stretch, top)
+        if c.carrier_velocity is not None:
+            relative = (x - self.prev) / c.h - c.carrier_velocity[s]
+            m.max_speed = max(m.max_speed, float(np.max(np.linalg.norm(relative, axis=1))))
         m.p99_stretch = max(m.p99_stretch, p99_nearest_rank(stretch) if len(stretch) else 0.0)
         if s >= self.late_from:
             m.late_stretch.append((s, top))
@@ -344,11 +403,12 @@ class Monitor:
 
     def finish(self) -> Metrics:
         m = self.m
+        m.late_max_stretch = max((v for _, v in m.late_stretch), default=0.0)
         if m.fail_step < 0:
             late = [(s, v) for s, v in m.late_stretch if v >= LATE_MAX_STRETCH]
             if late:
                 m.fail_step = late[0][0]
-                m.reason = f"step {late[0][0]}: stretch {late[0][1]:.3g} >= {LATE_MAX_STRETCH} in the last {LATE_WINDOW} s"
+                m.reason = f"step {late[0][0]}: stretch {late[0][1]:.3g} >= {LATE_MAX_STRETCH} in the last {self.late_window:g} s"
         return m
 
 
@@ -565,6 +625,10 @@ class SolverChoice:
         settings = dict(self.settings)
         if settings["substeps"] == "auto":
             settings["substeps"] = auto_substeps(case)
+            if settings["substeps"] > XPBD_MAX_AUTO_SUBSTEPS:
+                raise ValueError(
+                    f"cannot run: stable XPBD needs {settings['substeps']} substeps per step here (alpha >= "
+                    f"{XPBD_MARGIN:g} (w_i + w_j)), over the harness's cap of {XPBD_MAX_AUTO_SUBSTEPS}")
         return settings
 
     def label(self, settings: dict) -> str:
@@ -608,6 +672,41 @@ def split_solver_list(text: str) -> list[str]:
 # Running
 
 
+def external_forces(case: Case, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Our air model (cloth/air.h: pressure drag, skin friction and lift per triangle, shared by its
+    corners) and linear drag, evaluated at (x, v): the explicit external force of an extreme case."""
+    f = -case.drag * case.masses[:, None] * v
+    a = case.air
+    if a is not None and a["enabled"] and len(case.triangles):
+        t = case.triangles
+        xa, xb, xc = x[t[:, 0]], x[t[:, 1]], x[t[:, 2]]
+        cross = np.cross(xb - xa, xc - xa)
+        twice = np.linalg.norm(cross, axis=1)
+        w = np.asarray(a["wind"], dtype=float) - (v[t[:, 0]] + v[t[:, 1]] + v[t[:, 2]]) / 3
+        speed = np.linalg.norm(w, axis=1)
+        ok = (twice >= 1e-14) & (speed >= 1e-9)
+        twice, speed = np.where(ok, twice, 1.0), np.where(ok, speed, 1.0)
+        n = cross / twice[:, None]
+        wn = np.einsum("ij,ij->i", w, n)
+        n = np.where((wn < 0)[:, None], -n, n)  # oriented with the flow
+        wn = np.abs(wn)
+        half_rho_area = 0.5 * float(a["density"]) * 0.5 * twice
+        tangential = w - wn[:, None] * n
+        force = (half_rho_area * speed)[:, None] * (
+            float(a["drag_coefficient"]) * wn[:, None] * n + float(a["friction_coefficient"]) * tangential)
+        lift_dir = n - (wn / speed**2)[:, None] * w
+        lift_norm = np.linalg.norm(lift_dir, axis=1)
+        sin_a, cos_a = wn / speed, np.linalg.norm(tangential, axis=1) / speed
+        lift = (half_rho_area * float(a["lift_coefficient"]) * speed**2 * sin_a * cos_a
+                / np.where(lift_norm > 1e-9, lift_norm, 1.0))
+        force += np.where(lift_norm > 1e-9, lift, 0.0)[:, None] * lift_dir
+        force[~ok] = 0.0
+        for corner in range(3):
+            np.add.at(f, t[:, corner], force / 3)
+    f[case.pinned] = 0.0
+    return f
+
+
 def set_pins(state, case: Case, target: np.ndarray, previous: np.ndarray, dt: float) -> None:
     q = state.particle_q.numpy()  # on the CPU device: a view of the Warp array
     qd = state.particle_qd.numpy()
@@ -627,6 +726,9 @@ def simulate(case: Case, choice: SolverChoice, settings: dict) -> tuple[Metrics,
     substeps = settings["substeps"]
     dt = case.h / substeps
     monitor = Monitor(case)
+    if case.velocities is not None:
+        state_in.particle_qd.assign(case.velocities.astype(np.float32))
+    forced = case.kind == "extreme"
     pins_prev = case.rest[case.pinned]
     step_ms, pin_miss = [], 0.0
     for s in range(case.steps):
@@ -638,6 +740,10 @@ def simulate(case: Case, choice: SolverChoice, settings: dict) -> tuple[Metrics,
             after = pins_prev + (target - pins_prev) * ((sub + 1) / substeps)
             set_pins(state_in, case, after, before, dt)
             state_in.clear_forces()
+            if forced:  # air and drag, explicit (Newton's solvers read particle_f as external force)
+                x_now = state_in.particle_q.numpy().astype(float)
+                v_now = state_in.particle_qd.numpy().astype(float)
+                state_in.particle_f.assign(external_forces(case, x_now, v_now).astype(np.float32))
             solver.step(state_in, state_out, control, None, dt)
             state_in, state_out = state_out, state_in
         wp.synchronize()
@@ -683,8 +789,33 @@ def make_row(case: Case, choice: SolverChoice, label: str, metrics: Metrics | No
     }
 
 
+def make_extreme_row(case: Case, choice: SolverChoice, label: str, metrics: Metrics | None, ms: float, note: str) -> dict:
+    ok = metrics is not None
+
+    def metric(name: str) -> str:
+        return fmt(getattr(metrics, name) if ok else math.nan, 4)
+
+    return {
+        "case": case.scene,
+        "size": case.size,
+        "config": choice.spec.family,
+        "solver": label,
+        "stable": 1 if ok and metrics.fail_step < 0 else 0,
+        "fail_step": metrics.fail_step if ok else -1,
+        "ms_per_tick": fmt(ms, 4),
+        "timing": "warp_cpu",
+        "max_stretch": metric("max_stretch"),
+        "peak_stretch": metric("peak_stretch"),
+        "p99_stretch": metric("p99_stretch"),
+        "late_max_stretch": metric("late_max_stretch"),
+        "max_speed": metric("max_speed"),
+        "note": note,
+    }
+
+
 def run_one(case: Case, choice: SolverChoice) -> dict:
     label = choice.label(choice.settings)
+    make_row_for = make_extreme_row if case.kind == "extreme" else make_row
     try:
         settings = choice.resolved(case)
         label = choice.label(settings)
@@ -692,12 +823,12 @@ def run_one(case: Case, choice: SolverChoice) -> dict:
             metrics, ms, note = simulate(case, choice, settings)
         if metrics.fail_step < 0 and metrics.moved < FROZEN_TOLERANCE:  # ran, but simulated nothing
             frozen = f"failed: no free particle moved {FROZEN_TOLERANCE:g} m in {case.steps} steps"
-            return make_row(case, choice, label, None, math.nan, "; ".join(filter(None, [frozen, note])))
-        return make_row(case, choice, label, metrics, ms, note)
+            return make_row_for(case, choice, label, None, math.nan, "; ".join(filter(None, [frozen, note])))
+        return make_row_for(case, choice, label, metrics, ms, note)
     except Exception as e:  # a solver that cannot run this configuration still gives its row
         traceback.print_exc(file=sys.stderr)
         reason = f"{type(e).__name__}: {e}".replace("\n", " ")
-        return make_row(case, choice, label, None, math.nan, f"failed: {reason}")
+        return make_row_for(case, choice, label, None, math.nan, f"failed: {reason}")
 
 
 def csv_field(column: str, value) -> str:
@@ -707,13 +838,13 @@ def csv_field(column: str, value) -> str:
     return text
 
 
-def write_csv(path: Path, rows: list[dict]) -> None:
+def write_csv(path: Path, rows: list[dict], columns: list[str] = COLUMNS) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
     with os.fdopen(fd, "w", newline="") as f:
-        f.write(",".join(COLUMNS) + "\n")
+        f.write(",".join(columns) + "\n")
         for row in rows:
-            f.write(",".join(csv_field(c, row[c]) for c in COLUMNS) + "\n")
+            f.write(",".join(csv_field(c, row[c]) for c in columns) + "\n")
     os.replace(tmp, path)
 
 
@@ -724,6 +855,8 @@ def main(argv=None) -> int:
     ap.add_argument("--solvers", default="vbd,xpbd,style3d",
                     help="comma-separated solver specs, name[:key=value,...] (default: %(default)s)")
     ap.add_argument("--max-size", type=int, default=None, help="skip configurations with size > N")
+    ap.add_argument("--extreme-csv", type=Path, default=None,
+                    help="where the extreme cases' rows go (default: newton_extreme.csv beside OUT_CSV)")
     args = ap.parse_args(argv)
 
     def fail(msg: str) -> int:
@@ -760,16 +893,17 @@ def main(argv=None) -> int:
     wp.init()
     wp.set_device("cpu")
 
-    rows = []
+    rows, extreme_rows = [], []
     total = len(cases) * len(choices)
     for case in cases:
         for choice in choices:
             t0 = time.perf_counter()
             with wp.ScopedDevice("cpu"):
                 row = run_one(case, choice)
-            rows.append(row)
+            (extreme_rows if case.kind == "extreme" else rows).append(row)
+            ms = row.get("ms_per_step", row.get("ms_per_tick"))
             print(
-                f"[{len(rows)}/{total}] {case.path.name} {row['solver']}: ms/step {row['ms_per_step']} "
+                f"[{len(rows) + len(extreme_rows)}/{total}] {case.path.name} {row['solver']}: ms/step {ms} "
                 f"max_stretch {row['max_stretch']} p99 {row['p99_stretch']} stable {row['stable']} "
                 f"fail_step {row['fail_step']} ({time.perf_counter() - t0:.1f} s){' - ' + row['note'] if row['note'] else ''}",
                 file=sys.stderr,
@@ -777,6 +911,10 @@ def main(argv=None) -> int:
             )
     write_csv(args.out_csv, rows)
     print(f"newton_study: {len(rows)} rows written to {args.out_csv}", file=sys.stderr)
+    if any(c.kind == "extreme" for c in cases):
+        extreme_csv = args.extreme_csv or args.out_csv.with_name("newton_extreme.csv")
+        write_csv(extreme_csv, extreme_rows, EXTREME_COLUMNS)
+        print(f"newton_study: {len(extreme_rows)} extreme-case rows written to {extreme_csv}", file=sys.stderr)
     return 0
 
 
