@@ -15,7 +15,8 @@
 //   traj_error_fine      the same against exact backward Euler at h/16 (full run, small sizes)
 //   max_stretch, p99_stretch over the run; energy_growth: max (E - E0) / (m g height)
 //   stable, fail_step
-// Part 2 (extreme.csv): the demo's flag (engine::Flag with assets/scenes/flag_vehicle.json) on a
+// Part 2 (extreme.csv): the demo's flag (engine::Flag with assets/scenes/flag_vehicle.json, or the
+// scene given by --extreme-scene) on a
 // carrier driven through extreme motions, per solver configuration: stable or not.
 
 #include <algorithm>
@@ -449,6 +450,9 @@ vehicle path, a scan over stiffness and time step, and the demo's flag in six ex
   --configs LIST       comma-separated subset of the extreme-case configurations (by name)
   --extreme-sizes LIST flag sides for the extreme cases (default 33,65, --quick 33; the flag keeps
                        its aspect)
+  --extreme-scene S    whose flag the extreme cases run (a scene name or a .json path; default
+                       flag_vehicle): its size, mass, stiffness, air, physics rate and, as
+                       demo_default, its solver
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
                        numbers; tools/study/merge_shards.py joins the parts)
   --export-newton DIR  write the flag and pole motion of every k=1e4, h=1/240 configuration, and of
@@ -496,7 +500,7 @@ int main(int argc, char** argv) {
     bool quick = false, extremesOnly = false, scan = true, doExtremes = true, parallel = false;
     int shard = 1, shards = 1;
     std::vector<int> extremeSizes;  // default: 33 and 65 (--quick: 33)
-    std::string out = "out/study", exportDir;
+    std::string out = "out/study", exportDir, extremeScenePath = "flag_vehicle";
     std::vector<std::string> sceneFilter, solverSpecs, variantFilter;
     std::vector<int> sizeOverride;
     auto usageError = [](const std::string& why) {
@@ -517,6 +521,7 @@ int main(int argc, char** argv) {
         else if (a == "--parallel") parallel = true;
         else if (a == "--export-newton" && hasValue) exportDir = argv[++i];
         else if (a == "--configs" && hasValue) variantFilter = split(argv[++i], ',');
+        else if (a == "--extreme-scene" && hasValue) extremeScenePath = argv[++i];
         else if (a == "--shard" && hasValue) {
             const std::string v = argv[++i];
             if (std::sscanf(v.c_str(), "%d/%d", &shard, &shards) != 2 || shards < 1 || shards > 1000 || shard < 1 ||
@@ -542,7 +547,12 @@ int main(int argc, char** argv) {
         } else return usageError("unknown or incomplete option '" + a + "'");
     }
     // The extreme cases' configurations (validated before any work starts).
-    engine::SceneConfig demo = engine::loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/flag_vehicle.json");
+    engine::SceneConfig demo;
+    try {
+        demo = engine::loadScene(engine::resolveScenePath(extremeScenePath, FLAGSIM_ASSETS_DIR));
+    } catch (const std::exception& e) {
+        return usageError(std::string("--extreme-scene: ") + e.what());
+    }
     struct Variant {
         std::string name, solver;
         int substeps;
