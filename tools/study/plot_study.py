@@ -35,7 +35,9 @@ def main():
     colors = {f: palette(i % palette.N) for i, f in enumerate(families)}
 
     # Error against run time: the configuration every solver ran at every size (k = 1e4, h = 1/240).
-    # One row per scene, one column per size.
+    # Two rows per scene (trajectory error against converged backward Euler, which Newton's rows do
+    # not have; and max stretch, which every row has), one column per size. Unstable or failed runs
+    # are listed in the panel, not plotted.
     def main_config(r):
         return float(r["stiffness"]) == 1e4 and abs(float(r["h"]) * 240 - 1) < 1e-4  # h is printed with 6 digits
 
@@ -43,40 +45,52 @@ def main():
                     key=lambda p: (p[0], int(p[1])))
     scenes = sorted({p[0] for p in panels})
     sizes = sorted({int(p[1]) for p in panels})
-    fig, axes = plt.subplots(len(scenes), len(sizes), figsize=(5.5 * len(sizes), 4.8 * len(scenes)), squeeze=False)
+    metrics = [("traj_error_be", "trajectory error vs converged backward Euler / size"),
+               ("max_stretch", "max stretch")]
+    fig, axes = plt.subplots(len(scenes) * len(metrics), len(sizes),
+                             figsize=(5.5 * len(sizes), 4.8 * len(scenes) * len(metrics)), squeeze=False)
     for ax in axes.flat:
         ax.axis("off")
     for scene, size in panels:
-        ax = axes[scenes.index(scene)][sizes.index(int(size))]
-        ax.axis("on")
-        pts = []
         mine = [r for r in rows if (r["scene"], r["size"]) == (scene, size) and main_config(r)]
-        # Sizes without an exact reference (129x129) plot strain against time instead.
-        metric = "traj_error_be" if any((num(r["traj_error_be"]) or 0) > 0 for r in mine) else "max_stretch"
-        for r in mine:
-            ms, err = num(r["ms_per_step"]), num(r[metric])
-            if r["stable"] != "1" or ms is None or err is None or err <= 0:
-                continue
-            pts.append((ms, err, r["family"], r["solver"]))
-            ax.scatter(ms, err, color=colors[r["family"]], s=28, zorder=3)
-            ax.annotate(r["solver"].split(":", 1)[-1][:22], (ms, err), fontsize=6, alpha=0.7)
-        front, best = [], float("inf")
-        for ms, err, _, _ in sorted(pts):
-            if err < best:
-                front.append((ms, err))
-                best = err
-        if front:
-            ax.plot(*zip(*front), color="black", linestyle="--", linewidth=1, label="Pareto front", zorder=2)
-        for fam in families:
-            ax.scatter([], [], color=colors[fam], label=fam)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("ms per step (median)")
-        ax.set_ylabel("trajectory error vs converged backward Euler / size" if metric == "traj_error_be"
-                      else "max stretch (no exact reference at this size)")
-        ax.set_title(f"{scene} {size}x{size}, k = 1e4 N/m, h = 1/240 s\n(unstable runs left out)", fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7)
+        for m, (metric, label) in enumerate(metrics):
+            ax = axes[scenes.index(scene) * len(metrics) + m][sizes.index(int(size))]
+            ax.axis("on")
+            pts, out = [], []
+            for r in mine:
+                ms, err = num(r["ms_per_step"]), num(r[metric])
+                short = r["solver"].split(",substeps=1")[0][:26]
+                if r["stable"] != "1" or ms is None:
+                    out.append(short)
+                    continue
+                if err is None or err <= 0:
+                    continue  # stable, but without this metric (Newton's rows have no trajectory error)
+                pts.append((ms, err))
+                ax.scatter(ms, err, color=colors[r["family"]], s=28, zorder=3,
+                           marker="s" if r["family"].startswith("newton_") else "o")
+                ax.annotate(short.split(":", 1)[-1][:22], (ms, err), fontsize=6, alpha=0.7)
+            front, best = [], float("inf")
+            for ms, err in sorted(pts):
+                if err < best:
+                    front.append((ms, err))
+                    best = err
+            if front:
+                ax.plot(*zip(*front), color="black", linestyle="--", linewidth=1, label="Pareto front", zorder=2)
+            if out:
+                ax.text(0.01, 0.01, "unstable or failed:\n" + "\n".join(sorted(set(out))), transform=ax.transAxes,
+                        fontsize=5, va="bottom", ha="left", alpha=0.8)
+            for fam in families:
+                ax.scatter([], [], color=colors[fam], label=fam, marker="s" if fam.startswith("newton_") else "o")
+            if pts:
+                ax.set_xscale("log")
+                ax.set_yscale("log")
+            else:
+                ax.text(0.5, 0.5, f"no stable run has {metric} here", transform=ax.transAxes, ha="center")
+            ax.set_xlabel("ms per step (median; newton_*: Warp CPU kernels)")
+            ax.set_ylabel(label)
+            ax.set_title(f"{scene} {size}x{size}, k = 1e4 N/m, h = 1/240 s", fontsize=9)
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=6, loc="upper right")
     fig.tight_layout()
     fig.savefig(os.path.join(d, "error_vs_runtime.png"), dpi=90)
 
