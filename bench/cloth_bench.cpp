@@ -9,6 +9,7 @@
 
 #include <string>
 
+#include "cloth/air.h"
 #include "cloth/diagnostics.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
@@ -60,6 +61,30 @@ void sizes(benchmark::internal::Benchmark* b) {
     for (int n : {65, 129, 257}) b->Args({n, 2});
 }
 
+// The air on a fallen flag in a 10 m/s side wind: the forces alone (explicit air), or also their
+// velocity Jacobian and the damping blocks that implicit air adds to W. Argument: the flag's side.
+void airForces(benchmark::State& bm, bool implicit) {
+    cloth::HangingFlag flag = flagOfSize(static_cast<int>(bm.range(0)));
+    auto solver = cloth::makeSolver(cloth::SolverConfig{});
+    cloth::StepInput input;
+    input.h = kH;
+    input.pins = flag.pins;
+    for (int s = 0; s < 30; ++s) solver->step(flag.model, cloth::Environment{}, flag.state, input);
+    cloth::AirParams air;
+    air.wind = cloth::Vec3(3, 0, 10);
+    cloth::Points f(3, flag.model.particleCount());
+    std::vector<cloth::Mat3> jacobian, damping;
+    for (auto _ : bm) {
+        f.setZero();
+        cloth::addAirForces(flag.model, flag.state, air, f, implicit ? &jacobian : nullptr);
+        if (implicit) cloth::airDamping(jacobian, damping);
+        benchmark::DoNotOptimize(f.data());
+        benchmark::ClobberMemory();
+    }
+    bm.counters["particle_steps/s"] =
+        benchmark::Counter(double(flag.model.particleCount()) * bm.iterations(), benchmark::Counter::kIsRate);
+}
+
 #ifdef FLAGSIM_HAS_BULLET_PEER
 void stepBullet(benchmark::State& bm) {
     cloth::HangingFlag flag = flagOfSize(static_cast<int>(bm.range(0)));
@@ -102,5 +127,8 @@ BENCHMARK_CAPTURE(stepFlag, explicit_1_substep, "explicit")->Args({33, 0})->Unit
 // Bullet's default (1 position iteration, the same count as the paper's one Jacobi sweep) and more.
 BENCHMARK(stepBullet)->Args({33, 1})->Args({33, 4})->Args({33, 10})->Args({129, 1})->Unit(benchmark::kMicrosecond);
 #endif
+
+BENCHMARK_CAPTURE(airForces, explicit, false)->Arg(33)->Arg(129)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(airForces, implicit, true)->Arg(33)->Arg(129)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();
