@@ -26,8 +26,8 @@ def num(v):
 
 def check_findings(rows):
     """The values docs/study.md quotes, wherever the run has the rows: the exact solve is exact,
-    adaptive multigrid is within 2% of it on the vehicle path, and the paper's step does not
-    survive the vehicle path at 65x65."""
+    adaptive multigrid is within 2% of it at k = 1e4, h = 1/240 in both scenes, and the paper's step
+    does not survive the vehicle path at 65x65."""
     problems = []
     for r in rows:
         where = f"{r['scene']} {r['size']} k={r['stiffness']} h={r['h']} {r['solver']}"
@@ -35,7 +35,7 @@ def check_findings(rows):
         if r["family"] == "exact" and err == err and err > 1e-9:
             problems.append(f"{where}: exact's solve error {err} > 1e-9")
         main = r["stiffness"] == "10000" and r["h"] == "0.00416667"
-        if main and r["scene"] == "vehicle_path" and r["solver"] == "multigrid" and not err <= 0.02:
+        if main and r["solver"] == "multigrid" and not err <= 0.02:
             problems.append(f"{where}: adaptive multigrid's solve error {err} > 0.02")
         if main and r["scene"] == "vehicle_path" and r["size"] == "65" and r["solver"] == "kangcho:iterations=1" \
                 and r["stable"] != "0":
