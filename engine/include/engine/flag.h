@@ -77,7 +77,6 @@ private:
     cloth::Environment env_;
     std::vector<cloth::Pin> pins_;
     std::vector<Eigen::Vector3d> pinLocal_;  // pinned particles in the carrier frame
-    std::vector<std::uint8_t> pinnedFlags_;
     std::vector<std::uint8_t> collisionSkip_;  // pinned, or inside the pole at rest (the sleeve)
     PoleMount mount_;
     bool air_ = false, collision_ = false, implicitAir_ = true;

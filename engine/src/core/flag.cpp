@@ -50,17 +50,16 @@ Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& c
     thickness_ = scene.flag.thickness;
     substeps_ = scene.flag.substeps;
     pins_ = cloth::pinColumn(model_);  // column 0 at its rest position: the pole edge in pole space
-    pinnedFlags_.assign(model_.particleCount(), 0);
+    // Collisions skip the pinned particles and the sleeve: the pinned column runs down the pole's
+    // axis, like a sleeve sewn around it, and particles whose rest position lies inside the pole's
+    // collision capsule (radius + thickness) belong to it. Colliding them would push them out of
+    // the pole every tick against their springs (at 65x65 the second column sits 2.3 cm from the
+    // axis, inside the 4.5 cm capsule, and was held at 92% stretch).
+    collisionSkip_.assign(model_.particleCount(), 0);
     for (const cloth::Pin& p : pins_) {
-        pinnedFlags_[p.particle] = 1;
+        collisionSkip_[p.particle] = 1;
         pinLocal_.push_back(p.x);
     }
-    // The pinned column runs down the pole's axis, like a sleeve sewn around it. Particles whose
-    // rest position lies inside the pole's collision capsule (radius + thickness) belong to the
-    // sleeve: colliding them would push them out of the pole every tick against their springs
-    // (at 65x65 the second column sits 2.3 cm from the axis, inside the 4.5 cm capsule, and was
-    // held at 92% stretch). They skip collisions, as the pinned ones do.
-    collisionSkip_ = pinnedFlags_;
     const double sleeve = mount.radius + thickness_;
     for (cloth::Index i = 0; i < model_.particleCount(); ++i) {
         const Eigen::Vector3d d = model_.restPositions().col(i) - mount.base;
