@@ -348,6 +348,38 @@ engine::PoleMount extremeMount(const engine::SceneConfig& demo) {
     return mount;
 }
 
+// What every Newton harness input holds (tools/study/newton_study.py reads it): the configuration's
+// name, size, stiffness and step, gravity, the cloth (start positions, masses, springs, triangles)
+// and its pinned particles. Pin targets per step are appended with pinTargets().
+nlohmann::json newtonInput(const std::string& name, int size, double k, double h, const cloth::Model& m,
+                           const Points& x, const std::vector<cloth::Pin>& pins) {
+    nlohmann::json j;
+    j["scene"] = name;
+    j["size"] = size;
+    j["stiffness"] = k;
+    j["h"] = h;
+    j["gravity"] = {0.0, -9.81, 0.0};
+    for (cloth::Index i = 0; i < m.particleCount(); ++i) {
+        j["rest_positions"].push_back({x(0, i), x(1, i), x(2, i)});
+        j["masses"].push_back(m.masses()[i]);
+    }
+    for (const cloth::Spring& sp : m.springs()) j["springs"].push_back({sp.i, sp.j, sp.k, sp.rest, cloth::toString(sp.kind)});
+    for (const cloth::Triangle& t : m.triangles()) j["triangles"].push_back({t[0], t[1], t[2]});
+    for (const cloth::Pin& p : pins) j["pinned"].push_back(p.particle);
+    return j;
+}
+
+nlohmann::json pinTargets(const std::vector<cloth::Pin>& pins) {
+    nlohmann::json targets = nlohmann::json::array();
+    for (const cloth::Pin& p : pins) targets.push_back({p.x.x(), p.x.y(), p.x.z()});
+    return targets;
+}
+
+void writeNewtonInput(const std::string& path, const nlohmann::json& j) {
+    std::ofstream(path + ".tmp") << j.dump() << "\n";
+    std::filesystem::rename(path + ".tmp", path);
+}
+
 }  // namespace
 
 // One extreme case at one size, for the Newton harness: the demo's flag as engine::Flag builds it
@@ -361,16 +393,9 @@ void exportExtremeForNewton(const std::string& dir, const engine::SceneConfig& d
     engine::Flag flag(s, mount, x.carrier(0));
     const cloth::Model& m = flag.model();
     const double h = 1.0 / s.physicsHz;
-    nlohmann::json j;
+    nlohmann::json j = newtonInput(x.name, size, s.flag.stiffness.structural, h, m, flag.state().x, flag.pins());
     j["kind"] = "extreme";
-    j["case"] = x.name;
-    j["scene"] = x.name;
-    j["size"] = size;
-    j["stiffness"] = s.flag.stiffness.structural;
-    j["h"] = h;
-    j["gravity"] = {0.0, -9.81, 0.0};
     j["jump_at"] = x.jumpAt;
-    j["duration"] = x.duration;
     j["drag"] = s.flag.drag;
     j["air"] = {{"enabled", (s.subsystems & engine::kAir) != 0},
                 {"wind", {s.air.wind.x(), s.air.wind.y(), s.air.wind.z()}},
@@ -378,27 +403,17 @@ void exportExtremeForNewton(const std::string& dir, const engine::SceneConfig& d
                 {"drag_coefficient", s.air.dragCoefficient},
                 {"lift_coefficient", s.air.liftCoefficient},
                 {"friction_coefficient", s.air.frictionCoefficient}};
-    for (cloth::Index i = 0; i < m.particleCount(); ++i) {
-        j["rest_positions"].push_back({flag.state().x(0, i), flag.state().x(1, i), flag.state().x(2, i)});
+    for (cloth::Index i = 0; i < m.particleCount(); ++i)
         j["velocities"].push_back({flag.state().v(0, i), flag.state().v(1, i), flag.state().v(2, i)});
-        j["masses"].push_back(m.masses()[i]);
-    }
-    for (const cloth::Spring& sp : m.springs()) j["springs"].push_back({sp.i, sp.j, sp.k, sp.rest, cloth::toString(sp.kind)});
-    for (const cloth::Triangle& t : m.triangles()) j["triangles"].push_back({t[0], t[1], t[2]});
-    for (const cloth::Pin& p : flag.pins()) j["pinned"].push_back(p.particle);
     int steps = 0;
     for (int k = 1; k * h <= x.duration + 1e-9; ++k, ++steps) {
         const engine::RigidFrame c = x.carrier(k * h);
         flag.tick(h, c, {});
-        nlohmann::json targets = nlohmann::json::array();
-        for (const cloth::Pin& p : flag.pins()) targets.push_back({p.x.x(), p.x.y(), p.x.z()});
-        j["pin_positions"].push_back(std::move(targets));
+        j["pin_positions"].push_back(pinTargets(flag.pins()));
         j["carrier_velocity"].push_back({c.linearVelocity.x(), c.linearVelocity.y(), c.linearVelocity.z()});
     }
     j["steps"] = steps;
-    const std::string path = dir + "/extreme_" + x.name + "_" + std::to_string(size) + ".json";
-    std::ofstream(path + ".tmp") << j.dump() << "\n";
-    std::filesystem::rename(path + ".tmp", path);
+    writeNewtonInput(dir + "/extreme_" + x.name + "_" + std::to_string(size) + ".json", j);
 }
 
 // The flag and the pole motion of one configuration, for the Newton harness
@@ -409,28 +424,10 @@ void exportForNewton(const std::string& dir, const Scene& scene, int n, double k
     const cloth::Model& m = flag.model;
     const State start = startState(m, scene);
     const int steps = int(std::lround(duration / h));
-    nlohmann::json j;
-    j["scene"] = scene.name;
-    j["size"] = n;
-    j["stiffness"] = k;
-    j["h"] = h;
+    nlohmann::json j = newtonInput(scene.name, n, k, h, m, start.x, pinsAt(m, scene, 0));
     j["steps"] = steps;
-    j["gravity"] = {0.0, -9.81, 0.0};
-    for (cloth::Index i = 0; i < m.particleCount(); ++i) {
-        j["rest_positions"].push_back({start.x(0, i), start.x(1, i), start.x(2, i)});
-        j["masses"].push_back(m.masses()[i]);
-    }
-    for (const cloth::Spring& sp : m.springs()) j["springs"].push_back({sp.i, sp.j, sp.k, sp.rest, cloth::toString(sp.kind)});
-    for (const cloth::Triangle& t : m.triangles()) j["triangles"].push_back({t[0], t[1], t[2]});
-    for (const cloth::Pin& p : pinsAt(m, scene, 0)) j["pinned"].push_back(p.particle);
-    for (int s = 0; s < steps; ++s) {
-        nlohmann::json targets = nlohmann::json::array();
-        for (const cloth::Pin& p : pinsAt(m, scene, (s + 1) * h)) targets.push_back({p.x.x(), p.x.y(), p.x.z()});
-        j["pin_positions"].push_back(std::move(targets));
-    }
-    const std::string path = dir + "/" + scene.name + "_" + std::to_string(n) + ".json";
-    std::ofstream(path + ".tmp") << j.dump() << "\n";
-    std::filesystem::rename(path + ".tmp", path);
+    for (int s = 0; s < steps; ++s) j["pin_positions"].push_back(pinTargets(pinsAt(m, scene, (s + 1) * h)));
+    writeNewtonInput(dir + "/" + scene.name + "_" + std::to_string(n) + ".json", j);
 }
 
 const char* kUsage = R"(usage: cloth_study [options]
