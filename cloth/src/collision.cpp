@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace cloth {
 
@@ -51,28 +52,70 @@ Scalar signedDistance(const Collider& c, const Vec3& p, Vec3* normal) {
     return d;
 }
 
+bool collideParticle(const Collider& c, Scalar thickness, Vec3& x, Vec3& v) {
+    Vec3 n;
+    const Scalar d = signedDistance(c, x, &n) - thickness;
+    if (d >= 0) return false;
+    x -= d * n;
+    // Velocity relative to the collider: drop the inward normal part, damp the tangent.
+    Vec3 rel = v - c.velocity;
+    const Scalar vn = rel.dot(n);
+    if (vn < 0) {
+        Vec3 vt = rel - vn * n;
+        const Scalar vtLen = vt.norm();
+        const Scalar drop = c.friction * -vn;
+        vt = vtLen > drop ? Vec3(vt * (1 - drop / vtLen)) : Vec3::Zero();
+        rel = vt;
+    }
+    v = c.velocity + rel;
+    return true;
+}
+
+namespace {
+
+// A lower bound of signedDistance(c, p) over every p in the box [lo, hi].
+Scalar distanceLowerBound(const Collider& c, const Vec3& lo, const Vec3& hi) {
+    const Vec3 mid = (lo + hi) / 2, half = (hi - lo) / 2;
+    if (c.shape == Collider::Shape::Plane) return (mid - c.center).dot(c.axis) - half.dot(c.axis.cwiseAbs());
+    // Every other shape lies within a sphere about its center.
+    const Scalar reach = c.shape == Collider::Shape::Sphere    ? c.radius
+                         : c.shape == Collider::Shape::Capsule ? std::abs(c.halfExtents.x()) * c.axis.norm() + c.radius
+                                                               : c.halfExtents.norm();
+    const Vec3 gap = ((c.center - mid).cwiseAbs() - half).cwiseMax(0);
+    return gap.norm() - reach;
+}
+
+}  // namespace
+
 int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
                       const std::vector<std::uint8_t>* pinnedFlags, State& state) {
+    const Index count = static_cast<Index>(state.x.cols());
+    // Broad phase: a collider that cannot reach the box around the free particles is skipped for
+    // every particle that no earlier collider moved (a moved particle may have left the box).
+    // The margin covers the rounding of the bound, so skipping never changes a result.
+    Vec3 lo = Vec3::Constant(std::numeric_limits<Scalar>::infinity()), hi = -lo;
+    for (Index i = 0; i < count; ++i) {
+        if (pinnedFlags && (*pinnedFlags)[i]) continue;
+        lo = lo.cwiseMin(state.x.col(i));
+        hi = hi.cwiseMax(state.x.col(i));
+    }
+    const bool box = (lo.array() <= hi.array()).all();  // false with no free particle
+    static thread_local std::vector<std::uint8_t> far;
+    far.assign(colliders.size(), 0);
+    for (std::size_t c = 0; c < colliders.size(); ++c) {
+        const Scalar scale = 1 + hi.cwiseAbs().maxCoeff() + lo.cwiseAbs().maxCoeff() + colliders[c].center.norm();
+        far[c] = box && distanceLowerBound(colliders[c], lo, hi) - thickness > 1e-9 * scale;
+    }
     int moved = 0;
-    for (Index i = 0; i < static_cast<Index>(state.x.cols()); ++i) {
+    for (Index i = 0; i < count; ++i) {
         if (pinnedFlags && (*pinnedFlags)[i]) continue;
         bool hit = false;
-        for (const Collider& c : colliders) {
-            Vec3 n;
-            const Scalar d = signedDistance(c, state.x.col(i), &n) - thickness;
-            if (d >= 0) continue;
-            state.x.col(i) -= d * n;
-            // Velocity relative to the collider: drop the inward normal part, damp the tangent.
-            Vec3 rel = state.v.col(i) - c.velocity;
-            const Scalar vn = rel.dot(n);
-            if (vn < 0) {
-                Vec3 vt = rel - vn * n;
-                const Scalar vtLen = vt.norm();
-                const Scalar drop = c.friction * -vn;
-                vt = vtLen > drop ? Vec3(vt * (1 - drop / vtLen)) : Vec3::Zero();
-                rel = vt;
-            }
-            state.v.col(i) = c.velocity + rel;
+        for (std::size_t k = 0; k < colliders.size(); ++k) {
+            if (far[k] && !hit) continue;
+            Vec3 x = state.x.col(i), v = state.v.col(i);
+            if (!collideParticle(colliders[k], thickness, x, v)) continue;
+            state.x.col(i) = x;
+            state.v.col(i) = v;
             hit = true;
         }
         moved += hit;

@@ -870,3 +870,65 @@ TEST(PhysicsCollision, AParticleInTwoCollidersCountsOnceAndACapsuleMayBeGivenRev
     EXPECT_NEAR(signedDistance(capsule, Vec3(0.7, 2, 0), nullptr), 1.5, 1e-12);
     EXPECT_NEAR(signedDistance(capsule, Vec3(3, 0, 0), nullptr), 1.5, 1e-12);
 }
+
+TEST(PhysicsCollision, SkippingCollidersFarFromTheClothChangesNothing) {
+    // resolveCollisions skips colliders that cannot reach the box around the free particles.
+    // Reference: collideParticle for every particle and every collider in order. The colliders:
+    // a ball in the middle of the cloud (reaches it), a ground plane, a box and a capsule well
+    // away (skipped), and a plane just above the cloud (skipped by the box test), into which the
+    // ball pushes some particles: those must still meet it, as in the reference.
+    std::mt19937 rng(11);
+    State state;
+    state.x = Points::Zero(3, 400);
+    state.v = Points::Zero(3, 400);
+    for (Index i = 0; i < 400; ++i) {
+        state.x.col(i) = randomVec(rng, 0, 1);
+        state.v.col(i) = randomVec(rng, -1, 1);
+    }
+    std::vector<std::uint8_t> pinned(400, 0);
+    pinned[7] = pinned[100] = 1;
+    std::vector<Collider> colliders(5);
+    colliders[0].shape = Collider::Shape::Sphere;
+    colliders[0].center = Vec3(0.5, 0.5, 0.5);
+    colliders[0].radius = 0.6;
+    colliders[0].velocity = Vec3(0.2, 0, 0);
+    colliders[1].center = Vec3(0, -2, 0);  // the ground plane, far below
+    colliders[2].shape = Collider::Shape::Box;
+    colliders[2].center = Vec3(3, 0.5, 0.5);
+    colliders[2].halfExtents = Vec3(0.5, 1, 1);
+    colliders[2].rotation = Eigen::AngleAxisd(0.3, Vec3::UnitY()).toRotationMatrix();
+    colliders[3].shape = Collider::Shape::Capsule;
+    colliders[3].center = Vec3(0.5, 0.5, -2);
+    colliders[3].axis = Vec3::UnitX();
+    colliders[3].halfExtents = Vec3(1, 0, 0);
+    colliders[3].radius = 0.2;
+    colliders[4].center = Vec3(0, 0, 1.04);  // a plane facing down, 4 cm above the cloud
+    colliders[4].axis = -Vec3::UnitZ();
+    const Scalar thickness = 0.01;
+
+    State reference = state;
+    int movedReference = 0;
+    for (Index i = 0; i < 400; ++i) {
+        if (pinned[i]) continue;
+        bool hit = false;
+        for (const Collider& c : colliders) {
+            Vec3 x = reference.x.col(i), v = reference.v.col(i);
+            if (collideParticle(c, thickness, x, v)) {
+                reference.x.col(i) = x;
+                reference.v.col(i) = v;
+                hit = true;
+            }
+        }
+        movedReference += hit;
+    }
+    ASSERT_GT(movedReference, 50);
+    int pushedIntoTheTopPlane = 0;
+    for (Index i = 0; i < 400; ++i) pushedIntoTheTopPlane += state.x(2, i) <= 1 &&
+                                                             reference.x(2, i) >= 1.04 - thickness - 1e-12 &&
+                                                             reference.x(2, i) <= 1.04 - thickness + 1e-12;
+    ASSERT_GT(pushedIntoTheTopPlane, 0) << "the ball should push some particles up against the top plane";
+
+    EXPECT_EQ(resolveCollisions(colliders, thickness, &pinned, state), movedReference);
+    EXPECT_TRUE(state.x == reference.x && state.v == reference.v)
+        << "max |dx| " << (state.x - reference.x).cwiseAbs().maxCoeff();
+}

@@ -22,9 +22,15 @@ struct Collider {
     Scalar friction = 0.3;
 };
 
-// Projects particles out of the colliders (thickness added to every shape). Pinned particles
-// (flags[i] != 0) are left alone. Returns the number of particles moved (a particle inside two
-// colliders counts once).
+// One particle against one collider: if it lies within `thickness` of the surface, it moves to
+// that distance along the surface normal, its inward velocity relative to the collider is
+// dropped and its tangential velocity damped by Coulomb friction. Returns whether it moved.
+bool collideParticle(const Collider& c, Scalar thickness, Vec3& x, Vec3& v);
+
+// collideParticle for every particle and collider, particle by particle, colliders in order.
+// Pinned particles (flags[i] != 0) are left alone. Returns the number of particles moved (a
+// particle inside two colliders counts once). A collider that cannot reach the bounding box of
+// the free particles is skipped (same results, tested against the loop over every pair).
 int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
                       const std::vector<std::uint8_t>* pinnedFlags, State& state);
 
