@@ -552,7 +552,13 @@ int main(int argc, char** argv) {
     }
     // The stiff scene's flag (flag_vehicle_stiff: the study's stiffness, multigrid, implicit air),
     // for the stiff_* configurations: the same cases with a flag ten times stiffer.
-    const engine::SceneConfig stiff = engine::loadScene(engine::resolveScenePath("flag_vehicle_stiff", FLAGSIM_ASSETS_DIR));
+    engine::SceneConfig stiff;
+    try {
+        stiff = engine::loadScene(engine::resolveScenePath("flag_vehicle_stiff", FLAGSIM_ASSETS_DIR));
+    } catch (const std::exception& e) {  // an installed tree missing the scene, or a bad edit of it
+        std::fprintf(stderr, "cloth_study: the stiff_* configurations' scene: %s\n", e.what());
+        return 1;
+    }
     struct Variant {
         std::string name, solver;
         int substeps;
