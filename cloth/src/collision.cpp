@@ -102,9 +102,10 @@ int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
     const bool box = (lo.array() <= hi.array()).all();  // false with no free particle
     static thread_local std::vector<std::uint8_t> far;
     far.assign(colliders.size(), 0);
-    for (std::size_t c = 0; c < colliders.size(); ++c) {
-        const Scalar scale = 1 + hi.cwiseAbs().maxCoeff() + lo.cwiseAbs().maxCoeff() + colliders[c].center.norm();
-        far[c] = box && distanceLowerBound(colliders[c], lo, hi) - thickness > 1e-9 * scale;
+    if (box) {
+        const Scalar boxScale = 1 + hi.cwiseAbs().maxCoeff() + lo.cwiseAbs().maxCoeff();
+        for (std::size_t c = 0; c < colliders.size(); ++c)
+            far[c] = distanceLowerBound(colliders[c], lo, hi) - thickness > 1e-9 * (boxScale + colliders[c].center.norm());
     }
     int moved = 0;
     for (Index i = 0; i < count; ++i) {
