@@ -216,6 +216,58 @@ CLOTH_SIMD_CLONES void bandedProduct(const BlockMatrix<T>& W, const T* X0, const
     }
 }
 
+// The Galerkin product on nested grids. When both sides of a grid level are odd, its coarser grid
+// keeps every other point (fine point 2I is coarse point I) and P is the same bilinear stencil
+// everywhere: weight w_a = (1 - |a_x|/2)(1 - |a_y|/2) from coarse I to fine 2I + a, a in {-1,0,1}^2.
+// Then W_c(I, I + D) = sum over a, b of w_a w_b W(2I + a, 2I + 2D + b), and each (D, a, b) whose
+// fine offset o = 2D + b - a is a band of W is one term: the same band, shifted, for every coarse
+// row. A row of coarse blocks is a fixed list of terms, each a stream down a fine band (every
+// other element), with no plan to read. Terms only for D in the upper half (and D = 0): W_c is
+// symmetric.
+template <class T>
+struct NestedTerm {
+    int dst = 0;    // coarse band (0: the diagonal), in the order of nestedOffsets()
+    int band = 0;   // fine band holding W(i, i + o) (0: the diagonal)
+    int ax = 0, ay = 0;
+    int shift = 0;  // the block's fine row: i (o in the upper half) or i + o (lower half: W_ji = W_ij)
+    T w = 0;
+};
+
+// The coarse offsets D that the terms fill: the diagonal, then the upper half of |D| <= 2.
+std::vector<std::pair<int, int>> nestedOffsets() {
+    std::vector<std::pair<int, int>> d = {{0, 0}, {1, 0}, {2, 0}};
+    for (int dy = 1; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) d.push_back({dx, dy});
+    return d;
+}
+
+// One row Y of coarse blocks, the sum of the terms: band d's six numbers of coarse point X at
+// out[d][q * outStride + X] (out[d] null: no such band, and its terms are skipped). V: the fine
+// level's banded values, band k's six arrays from V + bandAt[k], `stride` apart. (Summing each
+// band's terms in registers over chunks of points, instead of adding term by term into `out`,
+// measured slower: GCC vectorized that loop only in part.)
+template <class T>
+CLOTH_SIMD_CLONES void nestedGalerkinRow(const NestedTerm<T>* terms, int count, const T* V, const std::size_t* bandAt,
+                                         std::size_t stride, int nx, int ny, int cx, int Y, T* const* out,
+                                         std::size_t outStride, int bands) {
+    for (int d = 0; d < bands; ++d)
+        for (int q = 0; out[d] && q < 6; ++q) std::fill_n(out[d] + q * outStride, cx, T(0));
+    for (int t = 0; t < count; ++t) {
+        const NestedTerm<T>& term = terms[t];
+        const int fy = 2 * Y + term.ay;
+        if (fy < 0 || fy >= ny || !out[term.dst]) continue;
+        const int x0 = term.ax < 0 ? 1 : 0, x1 = term.ax > 0 ? cx - 1 : cx;  // fine point 2X + a_x on the grid
+        const std::ptrdiff_t first = std::ptrdiff_t(bandAt[term.band]) + std::ptrdiff_t(fy) * nx + term.ax + term.shift;
+        const T w = term.w;
+        for (int q = 0; q < 6; ++q) {
+            const T* __restrict s = V + first + std::ptrdiff_t(q) * std::ptrdiff_t(stride);
+            T* __restrict g = out[term.dst] + q * outStride;
+            CLOTH_IVDEP
+            for (int X = x0; X < x1; ++X) g[X] += w * s[2 * X];
+        }
+    }
+}
+
 }  // namespace
 
 // Array lengths in the banded layout are rounded to whole 4 KiB pages plus one cache line, so that
@@ -246,7 +298,7 @@ std::vector<int> BlockMatrix<T>::bandOffsets() const {
 }
 
 template <class T>
-void BlockMatrix<T>::layout(bool allowBands) {
+void BlockMatrix<T>::layout(bool allowBands, bool keepBlocks) {
     offsets = allowBands ? bandOffsets() : std::vector<int>{};
     pad = 0;
     at.assign(std::size_t(n + slots), 0);
@@ -268,7 +320,8 @@ void BlockMatrix<T>::layout(bool allowBands) {
             }
     }
     values.assign(6 * (offsets.size() + 1) * stride, T(0));
-    blocks.assign(6 * std::size_t(n + slots), T(0));
+    if (keepBlocks) blocks.assign(6 * std::size_t(n + slots), T(0));
+    else blocks.clear();
 }
 
 template <class T>
@@ -371,7 +424,7 @@ struct BandSpringArgs {
     const double *x0, *x1, *x2, *v0, *v1, *v2;  // v0 null: no right-hand side
     const T *k, *rest, *freeRow;
     T* o[6];    // the band's six arrays of W, at row 0
-    T* copy;    // the band's blocks in BlockMatrix::blocks (6 per slot)
+    T* copy;    // the band's blocks in BlockMatrix::blocks (6 per slot), or null where not kept
     T* bt[3];
     int offset;
     T h, h2;
@@ -414,6 +467,7 @@ CLOTH_IVDEP
         }
     }
     // The block copy in a loop of its own: interleaved stores in the loop above stop it vectorizing.
+    if (!copy) return;
     for (int p = begin; p < end; ++p) {
         copy[6 * p] = o0[p], copy[6 * p + 1] = o1[p], copy[6 * p + 2] = o2[p];
         copy[6 * p + 3] = o3[p], copy[6 * p + 4] = o4[p], copy[6 * p + 5] = o5[p];
@@ -504,6 +558,12 @@ struct Multigrid<T>::Impl {
         // [planStart[d], planStart[d+1]) of planW * this level's block planSrc.
         std::vector<int> planStart, planSrc;
         std::vector<T> planW;
+        // Or, on nested grids (nestedGalerkinRow), the terms of one row of coarse blocks, this
+        // level's grid sides, and where each coarse (band, row) lands: its destination block (the
+        // diagonal I, or n_c + slot), -1 where the pair is off the coarse grid.
+        std::vector<NestedTerm<T>> nested;
+        int gridNx = 0, gridNy = 0;
+        std::vector<int> nestedDst;
         // Levels that carry a cloth (level 0, and re-discretized coarse levels): its springs,
         // positions, pinned rows and the spring-free part of W_ii (mass, drag, damping).
         std::shared_ptr<const Model> cloth;
@@ -535,6 +595,7 @@ struct Multigrid<T>::Impl {
     void assembleBanded(int l, const double* xs, const double* vs, T h, T h2, bool compressionRule,
                         const RowTerms& rowTerms);
     void rediscretize(int l, T h2, bool compressionRule);
+    bool nestedTerms(Level& fine, const Level& coarse, int nx, int ny);
     void galerkin(int l);
     void coarseOperators(T h2, bool compressionRule);
     void factorCoarsest();
@@ -558,6 +619,7 @@ template <class T>
 void Multigrid<T>::Impl::prepare(const Model& model) {
     modelId = model.id();
     const int n = model.particleCount();
+    int nestedTransfers = 0;
     levels.clear();
     levels.emplace_back();
     {
@@ -600,6 +662,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
 
     while (levels.back().A.n > settings.coarsestParticles) {
         Transfer P;
+        const int fineNx = nx, fineNy = ny;
         if (geometric) {
             const int cx = coarserSide(nx), cy = coarserSide(ny);
             if (cx == nx && cy == ny) break;
@@ -680,6 +743,10 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
         for (int I = 0; I < nc; ++I)
             for (int e = coarse.A.start[I]; e < coarse.A.start[I + 1]; ++e)
                 if (coarse.A.col[e] < I) coarse.A.slot[e] = coarse.A.slot[entryOf(coarse.A.col[e], I)];
+        if (geometric && nestedTerms(fine, coarse, fineNx, fineNy)) {
+            ++nestedTransfers;
+            continue;
+        }
         // The plan fills the diagonal and the slots from (I, J) with I < J; the fine matrix is
         // symmetric, so the contributions with I > J are the same blocks mirrored.
         std::vector<std::pair<int, int>> pairs;  // (dst, src)
@@ -709,15 +776,81 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
             fine.planW[at] = T(weights[q]);
         }
     }
-    coarseningName = label.str() + (rediscretized ? " (re-discretized)" : " (Galerkin)");
+    if (rediscretized) label << " (re-discretized)";
+    else if (nestedTransfers == 0) label << " (Galerkin)";
+    else label << " (Galerkin; by stencil on " << nestedTransfers << " of " << levels.size() - 1 << " coarse levels)";
+    coarseningName = label.str();
     for (Level& L : levels) {
-        L.A.layout(&L != &levels.back() || L.band.used());  // the last level is factored, not multiplied
+        // The last level is factored, not multiplied; a plan reads its source level's block copy.
+        L.A.layout(&L != &levels.back() || L.band.used(), !L.planStart.empty());
         L.xStride = spacedLength<T>(std::size_t(L.A.n + 2 * L.A.pad));
         L.xs.assign(L.A.banded() ? 3 * L.xStride : 0, T(0));
         L.dinv.assign(6 * std::size_t(L.A.n), T(0));
         L.active.assign(L.A.n, T(0));
         for (auto* v : {&L.x, &L.b, &L.r}) v->assign(3 * std::size_t(L.A.n), T(0));
     }
+}
+
+// The terms of nestedGalerkinRow for fine (an nx x ny grid) and its coarse level, whose pattern is
+// set; false (the plan is used) unless both sides are odd and at least 5, the fine level will be
+// banded, every band is a 2D offset within 2 points, and the terms reach every coarse entry.
+template <class T>
+bool Multigrid<T>::Impl::nestedTerms(Level& fine, const Level& coarse, int nx, int ny) {
+    if (nx % 2 == 0 || ny % 2 == 0 || nx < 5 || ny < 5) return false;
+    const std::vector<int> offsets = fine.A.bandOffsets();  // what layout() will choose
+    if (offsets.empty()) return false;
+    // The fine band of each 2D offset (dx, dy), |dx|, |dy| <= 2 (-1: none).
+    int bandOf[5][5];
+    for (auto& row : bandOf) std::fill(row, row + 5, -1);
+    bandOf[2][2] = 0;
+    for (std::size_t k = 0; k < offsets.size(); ++k) {
+        const int o = offsets[k], dy = (o + 2) / nx, dx = o - dy * nx;
+        if (dy > 2 || dx < -2 || dx > 2) return false;
+        bandOf[dy + 2][dx + 2] = int(k) + 1;
+        bandOf[2 - dy][2 - dx] = int(k) + 1;
+    }
+    const auto D = nestedOffsets();
+    const int cx = (nx + 1) / 2, cy = (ny + 1) / 2, nc = cx * cy;
+    std::vector<NestedTerm<T>> terms;
+    for (std::size_t d = 0; d < D.size(); ++d)
+        for (int ay = -1; ay <= 1; ++ay)
+            for (int ax = -1; ax <= 1; ++ax)
+                for (int by = -1; by <= 1; ++by)
+                    for (int bx = -1; bx <= 1; ++bx) {
+                        const int ox = 2 * D[d].first + bx - ax, oy = 2 * D[d].second + by - ay;
+                        if (std::abs(ox) > 2 || std::abs(oy) > 2 || bandOf[oy + 2][ox + 2] < 0) continue;
+                        NestedTerm<T> t;
+                        t.dst = int(d);
+                        t.band = bandOf[oy + 2][ox + 2];
+                        t.ax = ax, t.ay = ay;
+                        const int lin = oy * nx + ox;
+                        t.shift = std::min(lin, 0);
+                        t.w = T((1 - std::abs(ax) / 2.0) * (1 - std::abs(ay) / 2.0) * (1 - std::abs(bx) / 2.0) *
+                                (1 - std::abs(by) / 2.0));
+                        terms.push_back(t);
+                    }
+    // Where each (coarse band, row) goes; every entry of the coarse pattern must be one of them.
+    std::vector<int> dst(D.size() * nc, -1);
+    int reached = 0;
+    for (int I = 0; I < nc; ++I) {
+        const int X = I % cx, Y = I / cx;
+        dst[I] = I;
+        for (std::size_t d = 1; d < D.size(); ++d) {
+            const int JX = X + D[d].first, JY = Y + D[d].second;
+            if (JX < 0 || JX >= cx || JY >= cy) continue;
+            const int J = JY * cx + JX;
+            const auto b = coarse.A.col.begin() + coarse.A.start[I], e = coarse.A.col.begin() + coarse.A.start[I + 1];
+            const auto it = std::lower_bound(b, e, J);
+            if (it == e || *it != J) continue;
+            dst[d * nc + I] = nc + coarse.A.slot[it - coarse.A.col.begin()];
+            ++reached;
+        }
+    }
+    if (2 * reached != coarse.A.entries()) return false;
+    fine.nested = std::move(terms);
+    fine.nestedDst = std::move(dst);
+    fine.gridNx = nx, fine.gridNy = ny;
+    return true;
 }
 
 // A level that carries a cloth (its A's pattern set from the cloth's springs): banded springs
@@ -798,7 +931,7 @@ void Multigrid<T>::Impl::assembleBanded(int l, const double* xs, const double* v
         args.k = &B.k[std::size_t(k) * n], args.rest = &B.rest[std::size_t(k) * n];
         args.freeRow = B.freeRow.data() + B.pad;
         for (int c = 0; c < 6; ++c) args.o[c] = A.values.data() + (6 * std::size_t(k + 1) + c) * A.stride + A.pad;
-        args.copy = &A.blocks[6 * (std::size_t(n) + std::size_t(k) * n)];
+        args.copy = A.blocks.empty() ? nullptr : &A.blocks[6 * (std::size_t(n) + std::size_t(k) * n)];
         for (int c = 0; c < 3; ++c) args.bt[c] = B.bt(k, c);
         args.offset = B.offsets[k];
         args.h = h, args.h2 = h2;
@@ -989,15 +1122,55 @@ template <class T>
 void Multigrid<T>::Impl::galerkin(int l) {
     const Level& F = levels[l];
     Level& C = levels[l + 1];
-    const int dsts = C.A.n + C.A.slots;
-    pool.run(dsts, [&](int begin, int end) {
-        for (int d = begin; d < end; ++d) {
-            T acc[6] = {0, 0, 0, 0, 0, 0};
-            for (int p = F.planStart[d]; p < F.planStart[d + 1]; ++p)
-                symAxpy(F.planW[p], F.A.block(F.planSrc[p]), acc);
-            C.A.put(d, acc);
+    if (!F.nested.empty()) {
+        const int nx = F.gridNx, ny = F.gridNy, cx = (nx + 1) / 2, cy = (ny + 1) / 2, nc = C.A.n;
+        const int bands = int(F.nestedDst.size() / nc);
+        std::size_t bandAt[BlockMatrix<T>::kMaxBands + 1];
+        for (std::size_t k = 0; k <= F.A.offsets.size(); ++k) bandAt[k] = 6 * k * F.A.stride + F.A.pad;
+        // A banded coarse level without a block copy gets its rows in place: band d of the terms is
+        // band bandC[d] of C (-1: no such band; then no pair of the pattern has that offset, and
+        // where a band's pair is off the grid, the terms sum to zero, as the band holds). Else the
+        // rows go through G and put().
+        const auto D = nestedOffsets();
+        int bandC[32];
+        const bool direct = C.A.banded() && C.A.blocks.empty();
+        for (int d = 0; d < bands; ++d) {
+            const int o = D[d].second * cx + D[d].first;
+            const auto it = std::lower_bound(C.A.offsets.begin(), C.A.offsets.end(), o);
+            bandC[d] = d == 0 ? 0 : it != C.A.offsets.end() && *it == o ? 1 + int(it - C.A.offsets.begin()) : -1;
         }
-    });
+        pool.run(cy, [&](int begin, int end) {
+            std::vector<T> G(direct ? 0 : std::size_t(bands) * 6 * cx);
+            T* out[32];
+            for (int Y = begin; Y < end; ++Y) {
+                for (int d = 0; d < bands; ++d)
+                    out[d] = !direct ? &G[std::size_t(d) * 6 * cx]
+                             : bandC[d] >= 0 ? &C.A.values[6 * std::size_t(bandC[d]) * C.A.stride + C.A.pad + Y * cx]
+                                             : nullptr;
+                nestedGalerkinRow(F.nested.data(), int(F.nested.size()), F.A.values.data(), bandAt, F.A.stride, nx,
+                                  ny, cx, Y, out, direct ? C.A.stride : std::size_t(cx), bands);
+                if (direct) continue;
+                for (int X = 0; X < cx; ++X)
+                    for (int d = 0; d < bands; ++d) {
+                        const int dst = F.nestedDst[std::size_t(d) * nc + Y * cx + X];
+                        if (dst < 0) continue;
+                        T block[6];
+                        for (int q = 0; q < 6; ++q) block[q] = G[(std::size_t(d) * 6 + q) * cx + X];
+                        C.A.put(dst, block);
+                    }
+            }
+        });
+    } else {
+        const int dsts = C.A.n + C.A.slots;
+        pool.run(dsts, [&](int begin, int end) {
+            for (int d = begin; d < end; ++d) {
+                T acc[6] = {0, 0, 0, 0, 0, 0};
+                for (int p = F.planStart[d]; p < F.planStart[d + 1]; ++p)
+                    symAxpy(F.planW[p], F.A.block(F.planSrc[p]), acc);
+                C.A.put(d, acc);
+            }
+        });
+    }
     pool.run(C.A.n, [&](int begin, int end) {
         for (int i = begin; i < end; ++i) {
             T D[6];

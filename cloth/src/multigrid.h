@@ -5,7 +5,9 @@
 //   level l: nu1 damped block-Jacobi sweeps (the paper's eq. 11 sweep, damped by omega),
 //            r = b - W x, b_c = P^T r, coarse solve (recursively), x += P x_c, nu2 sweeps;
 //   coarsest: a dense Cholesky solve.
-// Coarse operators are Galerkin, W_c = P^T W P, rebuilt every step from a plan computed once
+// Coarse operators are Galerkin, W_c = P^T W P, rebuilt every step: on a grid whose sides are both
+// odd (17x17, 33x33, ...: the coarse grid keeps every other point) as a fixed list of shifted
+// bands of W, the same for every coarse row ("by stencil"); otherwise from a plan computed once
 // per model (which fine block, with which weight, lands in which coarse block).
 // Prolongation P (built once per model):
 //   grids     bilinear interpolation from a grid of about half the points per side over the same
@@ -47,17 +49,17 @@ struct MultigridStats {
 //             Band k holds W_{i, i + o_k} (o_0 = 0, then the offsets o_k > 0) of every row i as six
 //             arrays over rows, zero where the row has no such entry, so that a product runs down
 //             the bands and vectorizes over rows; W_{i, i - o} = W_{i - o, i} reads the same arrays
-//             shifted (rows -pad .. -1 of every array are zero). The blocks are kept a second
-//             time, block after block (`blocks`), for the Galerkin product, which visits them by
-//             index: there a block's six numbers share a cache line instead of lying in six
-//             arrays (at 129x129 the Galerkin product took 1.9x less time).
+//             shifted (rows -pad .. -1 of every array are zero). Where a Galerkin plan reads the
+//             level, the blocks are kept a second time, block after block (`blocks`): the plan
+//             visits them by index, and there a block's six numbers share a cache line instead of
+//             lying in six arrays (at 129x129 the plan took 1.9x less time).
 template <class T>
 struct BlockMatrix {
     static constexpr int kMaxBands = 24;
     int n = 0, slots = 0;
     std::vector<int> start, col, slot;
     std::vector<T> values;
-    std::vector<T> blocks;        // banded: block b's six numbers again at 6 b (empty when gathered)
+    std::vector<T> blocks;        // banded and read by a plan: block b's six numbers again at 6 b (else empty)
     std::vector<std::size_t> at;  // n + slots
     std::size_t stride = 1;
     std::vector<int> offsets;     // banded: o_1 < o_2 < ...; empty: gathered
@@ -68,16 +70,17 @@ struct BlockMatrix {
     // The pattern's distinct column offsets j - i > 0 if it can be banded (one entry per row and
     // column, at most kMaxBands offsets, n >= 64), else empty.
     std::vector<int> bandOffsets() const;
-    // Chooses the layout (banded where the pattern allows and allowBands) and zeroes the values.
-    void layout(bool allowBands);
-    // Block b's six numbers, contiguous (either layout).
+    // Chooses the layout (banded where the pattern allows and allowBands; with the block copy if
+    // keepBlocks) and zeroes the values.
+    void layout(bool allowBands, bool keepBlocks);
+    // Block b's six numbers, contiguous (gathered, or banded with the block copy).
     const T* block(int b) const { return banded() ? &blocks[6 * std::size_t(b)] : &values[6 * std::size_t(b)]; }
-    T get(int b, int q) const { return block(b)[q]; }
-    // Sets block b (in the layout, and in `blocks` when banded).
+    T get(int b, int q) const { return values[at[b] + q * stride]; }
+    // Sets block b (in the layout, and in `blocks` when kept).
     void put(int b, const T* v) {
         T* o = &values[at[b]];
         for (int q = 0; q < 6; ++q) o[q * stride] = v[q];
-        if (banded()) std::copy(v, v + 6, &blocks[6 * std::size_t(b)]);
+        if (!blocks.empty()) std::copy(v, v + 6, &blocks[6 * std::size_t(b)]);
     }
     Eigen::MatrixXd dense() const;  // for tests
 };
@@ -101,7 +104,8 @@ public:
     Eigen::MatrixXd prolongation(int level) const;  // dense P from level + 1 to level
     // One V-cycle from x = 0 for the right-hand side b (3n, particle-major); returns x.
     Eigen::VectorXd vcycle(const Eigen::VectorXd& b);
-    std::string describeHierarchy() const;  // "geometric 33x33 17x17 9x9 5x5 3x3"
+    // "geometric 33x33 17x17 9x9 5x5 (Galerkin; by stencil on 3 of 3 coarse levels)"
+    std::string describeHierarchy() const;
 
 private:
     struct Impl;

@@ -133,8 +133,18 @@ TEST(Multigrid, OneVCycleReducesTheResidualOfARandomRightHandSideFivefold) {
 }
 
 TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
-    for (const bool mesh : {false, true}) {
-        const Case c = stiffCase(11, 8, mesh, 5);
+    // 11x8: the plan on every level (an even side); 21x17 -> 11x9 -> 6x5 -> 3x3: the stencil
+    // product from the cloth's bands (level 0) and from a Galerkin level's bands (level 1), then
+    // the plan; the mesh: aggregation, the plan.
+    struct Size {
+        int nx, ny;
+        bool mesh;
+        const char* path;
+    };
+    for (const Size s : {Size{11, 8, false, "(Galerkin)"}, Size{21, 17, false, "by stencil on 2 of 3 coarse levels"},
+                         Size{11, 8, true, "(Galerkin)"}}) {
+        const bool mesh = s.mesh;
+        const Case c = stiffCase(s.nx, s.ny, mesh, 5);
         LinearSystem sys;
         Environment env;
         env.drag = 0.5;
@@ -143,6 +153,7 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
         mg.prepareSystem(c.model, env, c.state, inputOf(c), true);
         mg.vcycle(Eigen::VectorXd::Zero(3 * c.model.particleCount()));  // builds the coarse levels
         ASSERT_GE(mg.levels(), 2);
+        EXPECT_NE(mg.describeHierarchy().find(s.path), std::string::npos) << mg.describeHierarchy();
         // Level 0 is the reference W of the free particles.
         const Eigen::MatrixXd W = referenceFreeMatrix(c, sys);
         EXPECT_LT((mg.matrix(0).dense() - W).norm(), 1e-10 * W.norm()) << (mesh ? "mesh" : "grid");
@@ -154,7 +165,7 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
             EXPECT_LT((rowSums.array() - 1).abs().maxCoeff(), 1e-12) << "level " << l;
             A = P.transpose() * A * P;
             EXPECT_LT((mg.matrix(l + 1).dense() - A).norm(), 1e-10 * A.norm())
-                << (mesh ? "mesh" : "grid") << " level " << l + 1;
+                << (mesh ? "mesh " : "grid ") << s.nx << "x" << s.ny << " level " << l + 1;
         }
     }
 }
