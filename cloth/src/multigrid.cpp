@@ -259,11 +259,15 @@ CLOTH_SIMD_CLONES void nestedGalerkinRow(const NestedTerm<T>* terms, int count, 
         const int x0 = term.ax < 0 ? 1 : 0, x1 = term.ax > 0 ? cx - 1 : cx;  // fine point 2X + a_x on the grid
         const std::ptrdiff_t first = std::ptrdiff_t(bandAt[term.band]) + std::ptrdiff_t(fy) * nx + term.ax + term.shift;
         const T w = term.w;
-        for (int q = 0; q < 6; ++q) {
-            const T* __restrict s = V + first + std::ptrdiff_t(q) * std::ptrdiff_t(stride);
-            T* __restrict g = out[term.dst] + q * outStride;
-            CLOTH_IVDEP
-            for (int X = x0; X < x1; ++X) g[X] += w * s[2 * X];
+        const std::ptrdiff_t st = std::ptrdiff_t(stride);
+        const T *__restrict s0 = V + first, *__restrict s1 = s0 + st, *__restrict s2 = s1 + st;
+        const T *__restrict s3 = s2 + st, *__restrict s4 = s3 + st, *__restrict s5 = s4 + st;
+        T *__restrict g0 = out[term.dst], *__restrict g1 = g0 + outStride, *__restrict g2 = g1 + outStride;
+        T *__restrict g3 = g2 + outStride, *__restrict g4 = g3 + outStride, *__restrict g5 = g4 + outStride;
+        CLOTH_IVDEP
+        for (int X = x0; X < x1; ++X) {
+            g0[X] += w * s0[2 * X], g1[X] += w * s1[2 * X], g2[X] += w * s2[2 * X];
+            g3[X] += w * s3[2 * X], g4[X] += w * s4[2 * X], g5[X] += w * s5[2 * X];
         }
     }
 }
@@ -792,11 +796,12 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
 }
 
 // The terms of nestedGalerkinRow for fine (an nx x ny grid) and its coarse level, whose pattern is
-// set; false (the plan is used) unless both sides are odd and at least 5, the fine level will be
-// banded, every band is a 2D offset within 2 points, and the terms reach every coarse entry.
+// set; false (the plan is used) unless both sides are odd and at least 5, the coarse rows are at
+// least settings.stencilGalerkinMinRow long, the fine level will be banded, every band is a 2D
+// offset within 2 points, and the terms reach every coarse entry.
 template <class T>
 bool Multigrid<T>::Impl::nestedTerms(Level& fine, const Level& coarse, int nx, int ny) {
-    if (nx % 2 == 0 || ny % 2 == 0 || nx < 5 || ny < 5) return false;
+    if (nx % 2 == 0 || ny % 2 == 0 || nx < 5 || ny < 5 || (nx + 1) / 2 < settings.stencilGalerkinMinRow) return false;
     const std::vector<int> offsets = fine.A.bandOffsets();  // what layout() will choose
     if (offsets.empty()) return false;
     // The fine band of each 2D offset (dx, dy), |dx|, |dy| <= 2 (-1: none).
@@ -1127,13 +1132,13 @@ void Multigrid<T>::Impl::galerkin(int l) {
         const int bands = int(F.nestedDst.size() / nc);
         std::size_t bandAt[BlockMatrix<T>::kMaxBands + 1];
         for (std::size_t k = 0; k <= F.A.offsets.size(); ++k) bandAt[k] = 6 * k * F.A.stride + F.A.pad;
-        // A banded coarse level without a block copy gets its rows in place: band d of the terms is
-        // band bandC[d] of C (-1: no such band; then no pair of the pattern has that offset, and
-        // where a band's pair is off the grid, the terms sum to zero, as the band holds). Else the
-        // rows go through G and put().
+        // A banded coarse level gets its rows in place: band d of the terms is band bandC[d] of C
+        // (-1: no such band; then no pair of the pattern has that offset, and where a band's pair
+        // is off the grid, the terms sum to zero, as the band holds); its block copy, where a plan
+        // reads it, from there. A gathered coarse level gets its rows through G and put().
         const auto D = nestedOffsets();
         int bandC[32];
-        const bool direct = C.A.banded() && C.A.blocks.empty();
+        const bool direct = C.A.banded();
         for (int d = 0; d < bands; ++d) {
             const int o = D[d].second * cx + D[d].first;
             const auto it = std::lower_bound(C.A.offsets.begin(), C.A.offsets.end(), o);
@@ -1149,6 +1154,13 @@ void Multigrid<T>::Impl::galerkin(int l) {
                                              : nullptr;
                 nestedGalerkinRow(F.nested.data(), int(F.nested.size()), F.A.values.data(), bandAt, F.A.stride, nx,
                                   ny, cx, Y, out, direct ? C.A.stride : std::size_t(cx), bands);
+                if (direct && !C.A.blocks.empty())
+                    for (int d = 0; d < bands; ++d)
+                        for (int X = 0; bandC[d] >= 0 && X < cx; ++X) {
+                            const int dst = F.nestedDst[std::size_t(d) * nc + Y * cx + X];
+                            if (dst < 0) continue;
+                            for (int q = 0; q < 6; ++q) C.A.blocks[6 * std::size_t(dst) + q] = out[d][q * C.A.stride + X];
+                        }
                 if (direct) continue;
                 for (int X = 0; X < cx; ++X)
                     for (int d = 0; d < bands; ++d) {

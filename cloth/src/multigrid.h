@@ -6,9 +6,10 @@
 //            r = b - W x, b_c = P^T r, coarse solve (recursively), x += P x_c, nu2 sweeps;
 //   coarsest: a dense Cholesky solve.
 // Coarse operators are Galerkin, W_c = P^T W P, rebuilt every step: on a grid whose sides are both
-// odd (17x17, 33x33, ...: the coarse grid keeps every other point) as a fixed list of shifted
-// bands of W, the same for every coarse row ("by stencil"); otherwise from a plan computed once
-// per model (which fine block, with which weight, lands in which coarse block).
+// odd (17x17, 33x33, ...: the coarse grid keeps every other point) and whose coarse rows are long
+// enough (MultigridSettings::stencilGalerkinMinRow), as a fixed list of shifted bands of W, the
+// same for every coarse row ("by stencil"); otherwise from a plan computed once per model (which
+// fine block, with which weight, lands in which coarse block).
 // Prolongation P (built once per model):
 //   grids     bilinear interpolation from a grid of about half the points per side over the same
 //             rectangle (any nx, ny: 33x22 and 40x27 work; 2^k+1 sizes nest exactly);

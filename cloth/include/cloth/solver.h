@@ -65,6 +65,9 @@ struct MultigridSettings {
     int threads = 1;
     bool singlePrecision = false;
     int coarsestParticles = 16;  // coarsen until a level has at most this many (not a key)
+    // The Galerkin product by stencil (nested grids, multigrid.h) from this many coarse points per
+    // row; shorter rows use the plan, which was faster there (at 33x33: 1.4x). Not a key.
+    int stencilGalerkinMinRow = 33;
 };
 
 struct ChebyshevSettings {
