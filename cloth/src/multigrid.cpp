@@ -735,10 +735,6 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
             coarse.A.col.insert(coarse.A.col.end(), c.begin(), c.end());
             coarse.A.start.push_back(int(coarse.A.col.size()));
         }
-        auto entryOf = [&coarse](int I, int J) {
-            const auto b = coarse.A.col.begin() + coarse.A.start[I], e = coarse.A.col.begin() + coarse.A.start[I + 1];
-            return int(std::lower_bound(b, e, J) - coarse.A.col.begin());
-        };
         // One slot per pair (I < J), shared with (J, I).
         coarse.A.slot.assign(coarse.A.entries(), -1);
         for (int I = 0; I < nc; ++I)
@@ -746,7 +742,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
                 if (coarse.A.col[e] > I) coarse.A.slot[e] = coarse.A.slots++;
         for (int I = 0; I < nc; ++I)
             for (int e = coarse.A.start[I]; e < coarse.A.start[I + 1]; ++e)
-                if (coarse.A.col[e] < I) coarse.A.slot[e] = coarse.A.slot[entryOf(coarse.A.col[e], I)];
+                if (coarse.A.col[e] < I) coarse.A.slot[e] = coarse.A.slot[coarse.A.entryOf(coarse.A.col[e], I)];
         if (geometric && nestedTerms(fine, coarse, fineNx, fineNy)) {
             ++nestedTransfers;
             continue;
@@ -759,7 +755,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
             auto add = [&](int src) {
                 return [&, src](int I, int J, double w) {
                     if (I > J) return;
-                    pairs.push_back({I == J ? I : nc + coarse.A.slot[entryOf(I, J)], src});
+                    pairs.push_back({I == J ? I : nc + coarse.A.slot[coarse.A.entryOf(I, J)], src});
                     weights.push_back(w);
                 };
             };
@@ -843,11 +839,9 @@ bool Multigrid<T>::Impl::nestedTerms(Level& fine, const Level& coarse, int nx, i
         for (std::size_t d = 1; d < D.size(); ++d) {
             const int JX = X + D[d].first, JY = Y + D[d].second;
             if (JX < 0 || JX >= cx || JY >= cy) continue;
-            const int J = JY * cx + JX;
-            const auto b = coarse.A.col.begin() + coarse.A.start[I], e = coarse.A.col.begin() + coarse.A.start[I + 1];
-            const auto it = std::lower_bound(b, e, J);
-            if (it == e || *it != J) continue;
-            dst[d * nc + I] = nc + coarse.A.slot[it - coarse.A.col.begin()];
+            const int e = coarse.A.entryOf(I, JY * cx + JX);
+            if (e < 0) continue;
+            dst[d * nc + I] = nc + coarse.A.slot[e];
             ++reached;
         }
     }
@@ -1129,14 +1123,14 @@ void Multigrid<T>::Impl::galerkin(int l) {
     Level& C = levels[l + 1];
     if (!F.nested.empty()) {
         const int nx = F.gridNx, ny = F.gridNy, cx = (nx + 1) / 2, cy = (ny + 1) / 2, nc = C.A.n;
-        const int bands = int(F.nestedDst.size() / nc);
+        const auto D = nestedOffsets();
+        const int bands = int(D.size());
         std::size_t bandAt[BlockMatrix<T>::kMaxBands + 1];
         for (std::size_t k = 0; k <= F.A.offsets.size(); ++k) bandAt[k] = 6 * k * F.A.stride + F.A.pad;
         // A banded coarse level gets its rows in place: band d of the terms is band bandC[d] of C
         // (-1: no such band; then no pair of the pattern has that offset, and where a band's pair
         // is off the grid, the terms sum to zero, as the band holds); its block copy, where a plan
         // reads it, from there. A gathered coarse level gets its rows through G and put().
-        const auto D = nestedOffsets();
         int bandC[32];
         const bool direct = C.A.banded();
         for (int d = 0; d < bands; ++d) {
@@ -1152,23 +1146,18 @@ void Multigrid<T>::Impl::galerkin(int l) {
                     out[d] = !direct ? &G[std::size_t(d) * 6 * cx]
                              : bandC[d] >= 0 ? &C.A.values[6 * std::size_t(bandC[d]) * C.A.stride + C.A.pad + Y * cx]
                                              : nullptr;
+                const std::size_t outStride = direct ? C.A.stride : std::size_t(cx);
                 nestedGalerkinRow(F.nested.data(), int(F.nested.size()), F.A.values.data(), bandAt, F.A.stride, nx,
-                                  ny, cx, Y, out, direct ? C.A.stride : std::size_t(cx), bands);
-                if (direct && !C.A.blocks.empty())
-                    for (int d = 0; d < bands; ++d)
-                        for (int X = 0; bandC[d] >= 0 && X < cx; ++X) {
-                            const int dst = F.nestedDst[std::size_t(d) * nc + Y * cx + X];
-                            if (dst < 0) continue;
-                            for (int q = 0; q < 6; ++q) C.A.blocks[6 * std::size_t(dst) + q] = out[d][q * C.A.stride + X];
-                        }
-                if (direct) continue;
-                for (int X = 0; X < cx; ++X)
-                    for (int d = 0; d < bands; ++d) {
+                                  ny, cx, Y, out, outStride, bands);
+                if (direct && C.A.blocks.empty()) continue;  // nothing else holds the blocks
+                for (int d = 0; d < bands; ++d)
+                    for (int X = 0; out[d] && X < cx; ++X) {
                         const int dst = F.nestedDst[std::size_t(d) * nc + Y * cx + X];
                         if (dst < 0) continue;
                         T block[6];
-                        for (int q = 0; q < 6; ++q) block[q] = G[(std::size_t(d) * 6 + q) * cx + X];
-                        C.A.put(dst, block);
+                        for (int q = 0; q < 6; ++q) block[q] = out[d][q * outStride + X];
+                        if (direct) std::copy(block, block + 6, &C.A.blocks[6 * std::size_t(dst)]);
+                        else C.A.put(dst, block);
                     }
             }
         });

@@ -67,6 +67,12 @@ struct BlockMatrix {
     int pad = 0;
 
     int entries() const { return int(col.size()); }
+    // The entry of (i, j) in row i's sorted columns, or -1 if the pattern has none.
+    int entryOf(int i, int j) const {
+        const auto b = col.begin() + start[i], e = col.begin() + start[i + 1];
+        const auto it = std::lower_bound(b, e, j);
+        return it != e && *it == j ? int(it - col.begin()) : -1;
+    }
     bool banded() const { return !offsets.empty(); }
     // The pattern's distinct column offsets j - i > 0 if it can be banded (one entry per row and
     // column, at most kMaxBands offsets, n >= 64), else empty.

@@ -135,13 +135,15 @@ TEST(Multigrid, OneVCycleReducesTheResidualOfARandomRightHandSideFivefold) {
 TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
     // 11x8: the plan on every level (an even side); 21x17 -> 11x9 -> 6x5 -> 3x3: the stencil
     // product from the cloth's bands (level 0) and from a Galerkin level's bands (level 1), then
-    // the plan; the mesh: aggregation, the plan.
+    // the plan; 25x15 -> 13x8: by stencil into a banded level that a plan then reads (its block
+    // copy filled from the bands); the mesh: aggregation, the plan.
     struct Size {
         int nx, ny;
         bool mesh;
         const char* path;
     };
     for (const Size s : {Size{11, 8, false, "(Galerkin)"}, Size{21, 17, false, "by stencil on 2 of 3 coarse levels"},
+                         Size{25, 15, false, "by stencil on 1 of"},
                          Size{11, 8, true, "(Galerkin)"}}) {
         const bool mesh = s.mesh;
         const Case c = stiffCase(s.nx, s.ny, mesh, 5);
