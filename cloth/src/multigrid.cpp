@@ -329,6 +329,18 @@ void BlockMatrix<T>::layout(bool allowBands, bool keepBlocks) {
 }
 
 template <class T>
+void BlockMatrix<T>::numberSlots() {
+    slots = 0;
+    slot.assign(entries(), -1);
+    for (int i = 0; i < n; ++i)
+        for (int e = start[i]; e < start[i + 1]; ++e)
+            if (col[e] > i) slot[e] = slots++;
+    for (int i = 0; i < n; ++i)
+        for (int e = start[i]; e < start[i + 1]; ++e)
+            if (col[e] < i) slot[e] = slot[entryOf(col[e], i)];
+}
+
+template <class T>
 Eigen::MatrixXd BlockMatrix<T>::dense() const {
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(3 * n, 3 * n);
     auto put = [&](int i, int j, int b) {
@@ -577,6 +589,12 @@ struct Multigrid<T>::Impl {
         std::vector<double> pos;
         std::vector<T> base;
         std::vector<unsigned char> pinned;
+        // Level 0 of a grid with its bend springs collapsed (MultigridSettings::collapseBend; the
+        // grid's nx, else 0): S is W with each bend spring's block moved onto the spring's halves,
+        // and the Galerkin product reads S instead of A.
+        int bendNx = 0;
+        BlockMatrix<T> S;
+        const BlockMatrix<T>& source() const { return bendNx ? S : A; }
     };
     std::vector<Level> levels;
     Eigen::LLT<Eigen::MatrixXd> coarsest;
@@ -600,6 +618,8 @@ struct Multigrid<T>::Impl {
                         const RowTerms& rowTerms);
     void rediscretize(int l, T h2, bool compressionRule);
     bool nestedTerms(Level& fine, const Level& coarse, int nx, int ny);
+    bool collapsePattern(Level& L, int nx);
+    void collapseBends(Level& L);
     void galerkin(int l);
     void coarseOperators(T h2, bool compressionRule);
     void factorCoarsest();
@@ -651,6 +671,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
     const bool rediscretized = geometric && settings.coarseOperator == MultigridSettings::CoarseOperator::Rediscretized;
     if (settings.coarseOperator == MultigridSettings::CoarseOperator::Rediscretized && !geometric)
         label << " (Galerkin: re-discretization needs a grid)";
+    const bool collapsed = settings.collapseBend && geometric && !rediscretized && collapsePattern(levels[0], nx);
 
     // Scalar stiffness Laplacian for aggregation (coarsened along with the blocks).
     Eigen::SparseMatrix<double, Eigen::RowMajor> lap;
@@ -713,6 +734,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
         // P_iI P_jJ != 0) and the plan.
         Level& fine = levels[levels.size() - 2];
         Level& coarse = levels.back();
+        const BlockMatrix<T>& src = fine.source();
         const Transfer& Pf = fine.P;
         const int nc = Pf.coarse, nf = fine.A.n;
         auto forPairs = [&](int i, int j, auto&& fn) {
@@ -725,7 +747,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
                 if (I != J) cols[I].push_back(J);
             };
             forPairs(i, i, add);
-            for (int e = fine.A.start[i]; e < fine.A.start[i + 1]; ++e) forPairs(i, fine.A.col[e], add);
+            for (int e = src.start[i]; e < src.start[i + 1]; ++e) forPairs(i, src.col[e], add);
         }
         coarse.A.n = nc;
         coarse.A.start.assign(1, 0);
@@ -735,14 +757,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
             coarse.A.col.insert(coarse.A.col.end(), c.begin(), c.end());
             coarse.A.start.push_back(int(coarse.A.col.size()));
         }
-        // One slot per pair (I < J), shared with (J, I).
-        coarse.A.slot.assign(coarse.A.entries(), -1);
-        for (int I = 0; I < nc; ++I)
-            for (int e = coarse.A.start[I]; e < coarse.A.start[I + 1]; ++e)
-                if (coarse.A.col[e] > I) coarse.A.slot[e] = coarse.A.slots++;
-        for (int I = 0; I < nc; ++I)
-            for (int e = coarse.A.start[I]; e < coarse.A.start[I + 1]; ++e)
-                if (coarse.A.col[e] < I) coarse.A.slot[e] = coarse.A.slot[coarse.A.entryOf(coarse.A.col[e], I)];
+        coarse.A.numberSlots();
         if (geometric && nestedTerms(fine, coarse, fineNx, fineNy)) {
             ++nestedTransfers;
             continue;
@@ -760,8 +775,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
                 };
             };
             forPairs(i, i, add(i));
-            for (int e = fine.A.start[i]; e < fine.A.start[i + 1]; ++e)
-                forPairs(i, fine.A.col[e], add(nf + fine.A.slot[e]));
+            for (int e = src.start[i]; e < src.start[i + 1]; ++e) forPairs(i, src.col[e], add(nf + src.slot[e]));
         }
         const int dsts = nc + coarse.A.slots;
         fine.planStart.assign(dsts + 1, 0);
@@ -776,13 +790,23 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
             fine.planW[at] = T(weights[q]);
         }
     }
-    if (rediscretized) label << " (re-discretized)";
-    else if (nestedTransfers == 0) label << " (Galerkin)";
-    else label << " (Galerkin; by stencil on " << nestedTransfers << " of " << levels.size() - 1 << " coarse levels)";
+    if (rediscretized) {
+        label << " (re-discretized)";
+    } else {
+        label << " (Galerkin";
+        if (collapsed) label << " with bend springs collapsed";
+        if (nestedTransfers > 0)
+            label << "; by stencil on " << nestedTransfers << " of " << levels.size() - 1 << " coarse levels";
+        label << ")";
+        if (settings.collapseBend && geometric && !collapsed)
+            label << " (bend springs kept: level 0 is not a banded grid whose bend springs have both halves)";
+    }
     coarseningName = label.str();
     for (Level& L : levels) {
         // The last level is factored, not multiplied; a plan reads its source level's block copy.
-        L.A.layout(&L != &levels.back() || L.band.used(), !L.planStart.empty());
+        const bool planReads = !L.planStart.empty();
+        L.A.layout(&L != &levels.back() || L.band.used(), planReads && !L.bendNx);
+        if (L.bendNx) L.S.layout(true, planReads);
         L.xStride = spacedLength<T>(std::size_t(L.A.n + 2 * L.A.pad));
         L.xs.assign(L.A.banded() ? 3 * L.xStride : 0, T(0));
         L.dinv.assign(6 * std::size_t(L.A.n), T(0));
@@ -798,7 +822,7 @@ void Multigrid<T>::Impl::prepare(const Model& model) {
 template <class T>
 bool Multigrid<T>::Impl::nestedTerms(Level& fine, const Level& coarse, int nx, int ny) {
     if (nx % 2 == 0 || ny % 2 == 0 || nx < 5 || ny < 5 || (nx + 1) / 2 < settings.stencilGalerkinMinRow) return false;
-    const std::vector<int> offsets = fine.A.bandOffsets();  // what layout() will choose
+    const std::vector<int> offsets = fine.source().bandOffsets();  // what layout() will choose
     if (offsets.empty()) return false;
     // The fine band of each 2D offset (dx, dy), |dx|, |dy| <= 2 (-1: none).
     int bandOf[5][5];
@@ -849,6 +873,44 @@ bool Multigrid<T>::Impl::nestedTerms(Level& fine, const Level& coarse, int nx, i
     fine.nested = std::move(terms);
     fine.nestedDst = std::move(dst);
     fine.gridNx = nx, fine.gridNy = ny;
+    return true;
+}
+
+// Level 0's pattern without its bend springs, for S (collapseBend); false (nothing collapsed) unless
+// level 0 is a banded grid (nx >= 5) whose bands are the structural (1, nx), shear (nx - 1,
+// nx + 1) and bend (2, 2 nx) offsets, with both bend bands, and every bend spring's two halves are
+// pairs of the pattern.
+template <class T>
+bool Multigrid<T>::Impl::collapsePattern(Level& L, int nx) {
+    const BlockMatrix<T>& A = L.A;
+    const std::vector<int>& offsets = L.band.offsets;  // = A.bandOffsets() (useSprings)
+    auto has = [&](int o) { return std::binary_search(offsets.begin(), offsets.end(), o); };
+    if (nx < 5 || !L.band.used() || !has(1) || !has(2) || !has(nx) || !has(2 * nx)) return false;
+    for (const int o : offsets)
+        if (o != 1 && o != 2 && o != nx - 1 && o != nx && o != nx + 1 && o != 2 * nx) return false;
+    const int n = A.n;
+    auto linked = [&A](int i, int j) {  // level 0's rows are in the model's order, not sorted
+        return std::find(A.col.begin() + A.start[i], A.col.begin() + A.start[i + 1], j) != A.col.begin() + A.start[i + 1];
+    };
+    for (const int o : {2, 2 * nx}) {
+        const std::size_t k = std::size_t(std::lower_bound(offsets.begin(), offsets.end(), o) - offsets.begin());
+        for (int p = 0; p + o < n; ++p)
+            if (L.band.k[k * n + p] != T(0) && (!linked(p, p + o / 2) || !linked(p + o / 2, p + o))) return false;
+    }
+    BlockMatrix<T>& S = L.S;
+    S = BlockMatrix<T>{};
+    S.n = n;
+    S.start.assign(1, 0);
+    for (int i = 0; i < n; ++i) {
+        for (int e = A.start[i]; e < A.start[i + 1]; ++e) {
+            const int o = std::abs(A.col[e] - i);
+            if (o != 2 && o != 2 * nx) S.col.push_back(A.col[e]);
+        }
+        std::sort(S.col.begin() + S.start.back(), S.col.end());  // entryOf needs sorted rows
+        S.start.push_back(int(S.col.size()));
+    }
+    S.numberSlots();
+    L.bendNx = nx;
     return true;
 }
 
@@ -1116,17 +1178,75 @@ void Multigrid<T>::Impl::coarseOperators(T h2, bool compressionRule) {
     factorCoarsest();
 }
 
-// Level l + 1's blocks from level l's by the plan: W_c = P^T W P.
+// S = W with its bend springs collapsed. A bend spring (i, j = i + 2 d) with block O = W_ij and
+// midpoint m = i + d is replaced by two springs (i, m), (m, j) with block 2 O each: the same energy
+// for a displacement linear from i to j, so the coarse levels still see the bend springs' share of
+// the stretching stiffness, and P^T S P keeps the 9-point stencil of S (P^T W P has 25 points:
+// a bend spring from an odd point reaches two coarse points away). As a change of W:
+//   W_ij -= O (to zero), W_im += 2 O, W_mj += 2 O, W_ii -= O, W_jj -= O, W_mm -= 4 O,
+// then rows and columns of pinned particles are zero again. (A bend spring with a pinned end has
+// O = 0 and is already on its free end's diagonal.) S is symmetric positive definite where W is:
+// each collapsed spring is a spring with twice the block.
+namespace {
+template <class T>
+CLOTH_SIMD_CLONES void collapseBendRows(const BlockMatrix<T>& A, BlockMatrix<T>& S, const T* act, int nx, int begin,
+                                        int end) {
+    auto bandOf = [](const BlockMatrix<T>& M, int o) {
+        return o == 0 ? 0 : 1 + int(std::lower_bound(M.offsets.begin(), M.offsets.end(), o) - M.offsets.begin());
+    };
+    const int bx = bandOf(A, 1), by = bandOf(A, nx), ox = bandOf(A, 2), oy = bandOf(A, 2 * nx);
+    const int sx = bandOf(S, 1), sy = bandOf(S, nx);
+    for (int c = 0; c < 6; ++c) {
+        auto a = [&](int k) { return A.values.data() + (6 * std::size_t(k) + c) * A.stride + A.pad; };
+        auto o = [&](int k) { return S.values.data() + (6 * std::size_t(k) + c) * S.stride + S.pad; };
+        const T *__restrict D = a(0), *__restrict Bx = a(bx), *__restrict By = a(by);
+        const T *__restrict Ox = a(ox), *__restrict Oy = a(oy);
+        T *__restrict SD = o(0), *__restrict Sx = o(sx), *__restrict Sy = o(sy);
+CLOTH_IVDEP
+        for (int i = begin; i < end; ++i) {
+            SD[i] = act[i] * (D[i] - (Ox[i] + Ox[i - 2]) - T(4) * Ox[i - 1] - (Oy[i] + Oy[i - 2 * nx]) - T(4) * Oy[i - nx]);
+            Sx[i] = act[i] * act[i + 1] * (Bx[i] + T(2) * (Ox[i] + Ox[i - 1]));
+            Sy[i] = act[i] * act[i + nx] * (By[i] + T(2) * (Oy[i] + Oy[i - nx]));
+        }
+        for (const int d : {nx - 1, nx + 1})  // the shear bands, unchanged
+            if (std::binary_search(S.offsets.begin(), S.offsets.end(), d))
+                std::copy(a(bandOf(A, d)) + begin, a(bandOf(A, d)) + end, o(bandOf(S, d)) + begin);
+    }
+}
+}  // namespace
+
+template <class T>
+void Multigrid<T>::Impl::collapseBends(Level& L) {
+    const BlockMatrix<T>& A = L.A;
+    BlockMatrix<T>& S = L.S;
+    const T* act = L.band.freeRow.data() + L.band.pad;
+    pool.run(A.n, [&](int begin, int end) {
+        collapseBendRows(A, S, act, L.bendNx, begin, end);
+        if (S.blocks.empty()) return;  // a plan reads S: its blocks again, block after block
+        for (int i = begin; i < end; ++i) {
+            for (int q = 0; q < 6; ++q) S.blocks[6 * std::size_t(i) + q] = S.get(i, q);
+            for (int e = S.start[i]; e < S.start[i + 1]; ++e) {
+                if (S.col[e] < i) continue;
+                const std::size_t b = std::size_t(S.n) + S.slot[e];
+                for (int q = 0; q < 6; ++q) S.blocks[6 * b + q] = S.get(int(b), q);
+            }
+        }
+    });
+}
+
+// Level l + 1's blocks from level l's (or, with bend springs collapsed, from its S): W_c = P^T W P.
 template <class T>
 void Multigrid<T>::Impl::galerkin(int l) {
+    if (levels[l].bendNx) collapseBends(levels[l]);
     const Level& F = levels[l];
+    const BlockMatrix<T>& W = F.source();
     Level& C = levels[l + 1];
     if (!F.nested.empty()) {
         const int nx = F.gridNx, ny = F.gridNy, cx = (nx + 1) / 2, cy = (ny + 1) / 2, nc = C.A.n;
         const auto D = nestedOffsets();
         const int bands = int(D.size());
         std::size_t bandAt[BlockMatrix<T>::kMaxBands + 1];
-        for (std::size_t k = 0; k <= F.A.offsets.size(); ++k) bandAt[k] = 6 * k * F.A.stride + F.A.pad;
+        for (std::size_t k = 0; k <= W.offsets.size(); ++k) bandAt[k] = 6 * k * W.stride + W.pad;
         // A banded coarse level gets its rows in place: band d of the terms is band bandC[d] of C
         // (-1: no such band; then no pair of the pattern has that offset, and where a band's pair
         // is off the grid, the terms sum to zero, as the band holds); its block copy, where a plan
@@ -1147,7 +1267,7 @@ void Multigrid<T>::Impl::galerkin(int l) {
                              : bandC[d] >= 0 ? &C.A.values[6 * std::size_t(bandC[d]) * C.A.stride + C.A.pad + Y * cx]
                                              : nullptr;
                 const std::size_t outStride = direct ? C.A.stride : std::size_t(cx);
-                nestedGalerkinRow(F.nested.data(), int(F.nested.size()), F.A.values.data(), bandAt, F.A.stride, nx,
+                nestedGalerkinRow(F.nested.data(), int(F.nested.size()), W.values.data(), bandAt, W.stride, nx,
                                   ny, cx, Y, out, outStride, bands);
                 if (direct && C.A.blocks.empty()) continue;  // nothing else holds the blocks
                 for (int d = 0; d < bands; ++d)
@@ -1167,7 +1287,7 @@ void Multigrid<T>::Impl::galerkin(int l) {
             for (int d = begin; d < end; ++d) {
                 T acc[6] = {0, 0, 0, 0, 0, 0};
                 for (int p = F.planStart[d]; p < F.planStart[d + 1]; ++p)
-                    symAxpy(F.planW[p], F.A.block(F.planSrc[p]), acc);
+                    symAxpy(F.planW[p], W.block(F.planSrc[p]), acc);
                 C.A.put(d, acc);
             }
         });

@@ -80,6 +80,8 @@ struct BlockMatrix {
     // Chooses the layout (banded where the pattern allows and allowBands; with the block copy if
     // keepBlocks) and zeroes the values.
     void layout(bool allowBands, bool keepBlocks);
+    // One slot per pair (i < j), shared with (j, i), for the pattern in start and col.
+    void numberSlots();
     // Block b's six numbers, contiguous (gathered, or banded with the block copy).
     const T* block(int b) const { return banded() ? &blocks[6 * std::size_t(b)] : &values[6 * std::size_t(b)]; }
     T get(int b, int q) const { return values[at[b] + q * stride]; }

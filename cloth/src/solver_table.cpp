@@ -75,6 +75,9 @@ const std::vector<SolverKind>& solverKinds() {
                                                {{"galerkin", M::CoarseOperator::Galerkin},
                                                 {"rediscretize", M::CoarseOperator::Rediscretized}},
                                                "coarse operators: P^T W P, or the cloth re-discretized (grids)"),
+                  choice<M, bool>("bend", &M::collapseBend, {{"collapse", true}, {"keep", false}},
+                                  "Galerkin on grids: coarse levels see each bend spring as two over its halves "
+                                  "(9-point coarse stencil), or as it is"),
                   choice<M, bool>("krylov", &M::conjugateGradients, {{"cg", true}, {"none", false}},
                                   "cg: V-cycles precondition CG; none: V-cycles alone")} +
                   parallel<M>("arithmetic of the solve (the state stays double)"),

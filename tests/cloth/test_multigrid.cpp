@@ -132,36 +132,68 @@ TEST(Multigrid, OneVCycleReducesTheResidualOfARandomRightHandSideFivefold) {
     }
 }
 
+// W with every bend spring (i, j = i + 2 d along a grid line, midpoint m) replaced by two springs
+// (i, m) and (m, j) with twice its block, computed densely from the reference W's block W_ij, with
+// pinned rows and columns zeroed again: the matrix multigrid's coarse levels are built from when
+// bend springs are collapsed.
+Eigen::MatrixXd denselyCollapsed(const Case& c, const LinearSystem& sys, const Eigen::MatrixXd& W) {
+    Eigen::MatrixXd S = W;
+    for (const Spring& sp : c.model.springs()) {
+        if (sp.kind != SpringKind::Bend) continue;
+        const Index i = sp.i, j = sp.j, m = (i + j) / 2;
+        const Eigen::Matrix3d O = W.block<3, 3>(3 * i, 3 * j);
+        auto add = [&](Index r, Index q, const Eigen::Matrix3d& B) { S.block<3, 3>(3 * r, 3 * q) += B; };
+        add(i, j, -O), add(j, i, -O);
+        add(i, m, 2 * O), add(m, i, 2 * O), add(m, j, 2 * O), add(j, m, 2 * O);
+        add(i, i, -O), add(j, j, -O), add(m, m, -4 * O);
+    }
+    for (Index i = 0; i < c.model.particleCount(); ++i)
+        if (sys.pinned[i]) {
+            S.middleRows(3 * i, 3).setZero();
+            S.middleCols(3 * i, 3).setZero();
+        }
+    return S;
+}
+
 TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
     // 11x8: the plan on every level (an even side); 21x17 -> 11x9 -> 6x5 -> 3x3: the stencil
     // product from the cloth's bands (level 0) and from a Galerkin level's bands (level 1), then
     // the plan; 25x15 -> 13x8: by stencil into a banded level that a plan then reads (its block
-    // copy filled from the bands); the mesh: aggregation, the plan.
+    // copy filled from the bands); the mesh: aggregation, the plan. Every grid twice: with its
+    // bend springs as they are, and collapsed onto their halves for the coarse levels (then level 1
+    // is P^T S P with S from denselyCollapsed).
     struct Size {
         int nx, ny;
         bool mesh;
         const char* path;
     };
-    for (const Size s : {Size{11, 8, false, "(Galerkin)"}, Size{21, 17, false, "by stencil on 2 of 3 coarse levels"},
+    for (const Size s : {Size{11, 8, false, "(Galerkin"}, Size{21, 17, false, "by stencil on 2 of 3 coarse levels"},
                          Size{25, 15, false, "by stencil on 1 of"},
-                         Size{11, 8, true, "(Galerkin)"}}) {
+                         Size{11, 8, true, "(Galerkin)"}})
+    for (const bool collapse : {false, true}) {
         const bool mesh = s.mesh;
-        const Case c = stiffCase(s.nx, s.ny, mesh, 5);
+        Case c = stiffCase(s.nx, s.ny, mesh, 5);
+        // And one pinned particle inside, whose bend springs' ends are free.
+        const Index inner = 2 * s.nx + 3;
+        c.pins.push_back({inner, c.state.x.col(inner), Vec3(0, 1, 0)});
         LinearSystem sys;
         Environment env;
         env.drag = 0.5;
         buildSystem(c.model, env, c.state, inputOf(c), true, sys);
         MultigridSettings settings;
         settings.stencilGalerkinMinRow = 0;  // by stencil on grids this small too
+        settings.collapseBend = collapse;
         Multigrid<double> mg(settings);
         mg.prepareSystem(c.model, env, c.state, inputOf(c), true);
         mg.vcycle(Eigen::VectorXd::Zero(3 * c.model.particleCount()));  // builds the coarse levels
         ASSERT_GE(mg.levels(), 2);
-        EXPECT_NE(mg.describeHierarchy().find(s.path), std::string::npos) << mg.describeHierarchy();
+        const std::string hierarchy = mg.describeHierarchy();
+        EXPECT_NE(hierarchy.find(s.path), std::string::npos) << hierarchy;
+        EXPECT_EQ(hierarchy.find("with bend springs collapsed") != std::string::npos, collapse && !mesh) << hierarchy;
         // Level 0 is the reference W of the free particles.
         const Eigen::MatrixXd W = referenceFreeMatrix(c, sys);
         EXPECT_LT((mg.matrix(0).dense() - W).norm(), 1e-10 * W.norm()) << (mesh ? "mesh" : "grid");
-        Eigen::MatrixXd A = W;
+        Eigen::MatrixXd A = collapse && !mesh ? denselyCollapsed(c, sys, W) : W;
         for (int l = 0; l + 1 < mg.levels(); ++l) {
             const Eigen::MatrixXd P = mg.prolongation(l);
             // Interpolation reproduces constants: every row of P sums to one.
@@ -169,7 +201,7 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
             EXPECT_LT((rowSums.array() - 1).abs().maxCoeff(), 1e-12) << "level " << l;
             A = P.transpose() * A * P;
             EXPECT_LT((mg.matrix(l + 1).dense() - A).norm(), 1e-10 * A.norm())
-                << (mesh ? "mesh " : "grid ") << s.nx << "x" << s.ny << " level " << l + 1;
+                << (mesh ? "mesh " : "grid ") << s.nx << "x" << s.ny << " level " << l + 1 << ", " << hierarchy;
         }
     }
 }

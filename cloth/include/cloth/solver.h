@@ -58,6 +58,11 @@ struct MultigridSettings {
     // coarse grid: the same spring kernels at positions sampled from the finer level.
     enum class CoarseOperator { Galerkin, Rediscretized };
     CoarseOperator coarseOperator = CoarseOperator::Galerkin;
+    // Galerkin on a grid: the coarse levels see each bend spring (i, i + 2) as two springs of
+    // twice its stiffness block over its halves (i, i + 1) and (i + 1, i + 2), the same energy for
+    // a displacement linear along the spring. The fine level keeps the true W (smoother, residual,
+    // CG); only the coarse operators change, from a 25-point stencil to a 9-point one.
+    bool collapseBend = true;
     // Cycles as the preconditioner of conjugate gradients (one V-cycle per CG iteration) rather
     // than as a stationary iteration. The V-cycle is symmetric (the same damped Jacobi before and
     // after), so CG applies.
