@@ -341,6 +341,28 @@ void BlockMatrix<T>::numberSlots() {
 }
 
 template <class T>
+void BlockMatrix<T>::numberSlotsByBand(const std::vector<int>& bandOffsets) {
+    slot.assign(entries(), -1);
+    for (int i = 0; i < n; ++i)
+        for (int e = start[i]; e < start[i + 1]; ++e) {
+            const int d = std::abs(col[e] - i);
+            const int k = int(std::lower_bound(bandOffsets.begin(), bandOffsets.end(), d) - bandOffsets.begin());
+            slot[e] = k * n + std::min(i, col[e]);
+        }
+    slots = int(bandOffsets.size()) * n;
+}
+
+template <class T>
+void BlockMatrix<T>::copyBandsToBlocks(int begin, int end) {
+    for (std::size_t k = 0; k <= offsets.size(); ++k) {
+        const T* band = values.data() + 6 * k * stride + pad;
+        T* copy = blocks.data() + 6 * (k == 0 ? 0 : std::size_t(n) * k);  // diagonal, then slot (k - 1) n + i
+        for (int i = begin; i < end; ++i)
+            for (int q = 0; q < 6; ++q) copy[6 * std::size_t(i) + q] = band[q * stride + i];
+    }
+}
+
+template <class T>
 Eigen::MatrixXd BlockMatrix<T>::dense() const {
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(3 * n, 3 * n);
     auto put = [&](int i, int j, int b) {
@@ -906,10 +928,13 @@ bool Multigrid<T>::Impl::collapsePattern(Level& L, int nx) {
             const int o = std::abs(A.col[e] - i);
             if (o != 2 && o != 2 * nx) S.col.push_back(A.col[e]);
         }
-        std::sort(S.col.begin() + S.start.back(), S.col.end());  // entryOf needs sorted rows
+        std::sort(S.col.begin() + S.start.back(), S.col.end());
         S.start.push_back(int(S.col.size()));
     }
-    S.numberSlots();
+    std::vector<int> kept;
+    for (const int o : offsets)
+        if (o != 2 && o != 2 * nx) kept.push_back(o);
+    S.numberSlotsByBand(kept);
     L.bendNx = nx;
     return true;
 }
@@ -936,12 +961,7 @@ void Multigrid<T>::Impl::useSprings(Level& L, const Model& cloth) {
         const std::size_t at = std::size_t(bandOf(int(std::max(sp.i, sp.j)) - lo)) * n + lo;
         B.k[at] = T(sp.k), B.rest[at] = T(sp.rest);
     }
-    for (int i = 0; i < n; ++i)
-        for (int e = L.A.start[i]; e < L.A.start[i + 1]; ++e) {
-            const int j = L.A.col[e];
-            L.A.slot[e] = bandOf(std::abs(j - i)) * n + std::min(i, j);
-        }
-    L.A.slots = bands * n;
+    L.A.numberSlotsByBand(B.offsets);
     B.xyz.assign(3 * B.len(), 0.0);
     B.vel.assign(3 * B.len(), 0.0);
     B.freeRow.assign(B.len(), T(0));
@@ -1222,15 +1242,7 @@ void Multigrid<T>::Impl::collapseBends(Level& L) {
     const T* act = L.band.freeRow.data() + L.band.pad;
     pool.run(A.n, [&](int begin, int end) {
         collapseBendRows(A, S, act, L.bendNx, begin, end);
-        if (S.blocks.empty()) return;  // a plan reads S: its blocks again, block after block
-        for (int i = begin; i < end; ++i) {
-            for (int q = 0; q < 6; ++q) S.blocks[6 * std::size_t(i) + q] = S.get(i, q);
-            for (int e = S.start[i]; e < S.start[i + 1]; ++e) {
-                if (S.col[e] < i) continue;
-                const std::size_t b = std::size_t(S.n) + S.slot[e];
-                for (int q = 0; q < 6; ++q) S.blocks[6 * b + q] = S.get(int(b), q);
-            }
-        }
+        if (!S.blocks.empty()) S.copyBandsToBlocks(begin, end);  // a plan reads S
     });
 }
 

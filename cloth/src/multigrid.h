@@ -82,6 +82,13 @@ struct BlockMatrix {
     void layout(bool allowBands, bool keepBlocks);
     // One slot per pair (i < j), shared with (j, i), for the pattern in start and col.
     void numberSlots();
+    // Or band-major for the band offsets o_1 < o_2 < ... (bandOffsets()): slot k n + i for the pair
+    // (i, i + o_{k+1}), holes included, so that the block copy of a band is contiguous
+    // (copyBandsToBlocks).
+    void numberSlotsByBand(const std::vector<int>& bandOffsets);
+    // Banded with band-major slots and the block copy kept: rows [begin, end) of every band into
+    // the copy.
+    void copyBandsToBlocks(int begin, int end);
     // Block b's six numbers, contiguous (gathered, or banded with the block copy).
     const T* block(int b) const { return banded() ? &blocks[6 * std::size_t(b)] : &values[6 * std::size_t(b)]; }
     T get(int b, int q) const { return values[at[b] + q * stride]; }
