@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <sstream>
 
 #include "kernels.h"
@@ -1005,24 +1006,45 @@ void Multigrid<T>::Impl::assembleBanded(int l, const double* xs, const double* v
             B.freeRow[B.pad + i] = L.pinned[i] ? T(0) : T(1);
         }
     });
+    BandSpringArgs<T> args[BlockMatrix<T>::kMaxBands];
     for (int k = 0; k < bands; ++k) {
-        BandSpringArgs<T> args;
-        args.x0 = B.x(0), args.x1 = B.x(1), args.x2 = B.x(2);
-        args.v0 = withRhs ? B.v(0) : nullptr, args.v1 = B.v(1), args.v2 = B.v(2);
-        args.k = &B.k[std::size_t(k) * n], args.rest = &B.rest[std::size_t(k) * n];
-        args.freeRow = B.freeRow.data() + B.pad;
-        for (int c = 0; c < 6; ++c) args.o[c] = A.values.data() + (6 * std::size_t(k + 1) + c) * A.stride + A.pad;
-        args.copy = A.blocks.empty() ? nullptr : &A.blocks[6 * (std::size_t(n) + std::size_t(k) * n)];
-        for (int c = 0; c < 3; ++c) args.bt[c] = B.bt(k, c);
-        args.offset = B.offsets[k];
-        args.h = h, args.h2 = h2;
-        args.compressionRule = compressionRule;
-        pool.run(n, [&](int begin, int end) {
-            if (withRhs) bandSpringKernel<T, true>(args, begin, end);
-            else bandSpringKernel<T, false>(args, begin, end);
-        });
+        BandSpringArgs<T>& a = args[k];
+        a.x0 = B.x(0), a.x1 = B.x(1), a.x2 = B.x(2);
+        a.v0 = withRhs ? B.v(0) : nullptr, a.v1 = B.v(1), a.v2 = B.v(2);
+        a.k = &B.k[std::size_t(k) * n], a.rest = &B.rest[std::size_t(k) * n];
+        a.freeRow = B.freeRow.data() + B.pad;
+        for (int c = 0; c < 6; ++c) a.o[c] = A.values.data() + (6 * std::size_t(k + 1) + c) * A.stride + A.pad;
+        a.copy = A.blocks.empty() ? nullptr : &A.blocks[6 * (std::size_t(n) + std::size_t(k) * n)];
+        for (int c = 0; c < 3; ++c) a.bt[c] = B.bt(k, c);
+        a.offset = B.offsets[k];
+        a.h = h, a.h2 = h2;
+        a.compressionRule = compressionRule;
     }
-    pool.run(n, [&](int begin, int end) { bandRowSums(A, L.base.data(), B, withRhs, L.b.data(), begin, end); });
+    // The springs and the row sums in one pass, tile by tile, so that the row sums read the
+    // blocks while they are in cache: row r sums slots r and r - o_k, so once a tile's slots are
+    // written, its rows are complete, except the first `reach` rows of a chunk after the first
+    // (their slots r - o_k belong to the chunk before), which are summed after the pass. Each
+    // row's sum is the same whoever computes it: the same bits for any thread count.
+    const int reach = B.offsets.back();
+    std::vector<std::pair<int, int>> seams;
+    std::mutex seamsMutex;
+    pool.run(n, [&](int begin, int end) {
+        const int ready = begin == 0 ? 0 : std::min(end, begin + reach);
+        for (int first = begin; first < end; first += kTile) {
+            const int last = std::min(end, first + kTile);
+            for (int k = 0; k < bands; ++k) {
+                if (withRhs) bandSpringKernel<T, true>(args[k], first, last);
+                else bandSpringKernel<T, false>(args[k], first, last);
+            }
+            const int from = std::max(first, ready);
+            if (from < last) bandRowSums(A, L.base.data(), B, withRhs, L.b.data(), from, last);
+        }
+        if (ready > begin) {
+            const std::lock_guard<std::mutex> lock(seamsMutex);
+            seams.push_back({begin, ready});
+        }
+    });
+    for (const auto& [from, to] : seams) bandRowSums(A, L.base.data(), B, withRhs, L.b.data(), from, to);
     T* D = A.values.data() + A.pad;
     const std::size_t st = A.stride;
     for (int p = 0; p < n; ++p) {  // springs with a pinned end (few; in a fixed order)
