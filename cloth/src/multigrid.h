@@ -9,7 +9,10 @@
 // odd (17x17, 33x33, ...: the coarse grid keeps every other point) and whose coarse rows are long
 // enough (MultigridSettings::stencilGalerkinMinRow), as a fixed list of shifted bands of W, the
 // same for every coarse row ("by stencil"); otherwise from a plan computed once per model (which
-// fine block, with which weight, lands in which coarse block).
+// fine block, with which weight, lands in which coarse block). On a grid, level 0's product reads
+// S rather than W: W with each bend spring (i, i + 2) replaced by two springs over its halves
+// with twice its block (MultigridSettings::collapseBend), so every coarse level has the 9-point
+// stencil; the smoother, the residuals and CG use W itself.
 // Prolongation P (built once per model):
 //   grids     bilinear interpolation from a grid of about half the points per side over the same
 //             rectangle (any nx, ny: 33x22 and 40x27 work; 2^k+1 sizes nest exactly);
