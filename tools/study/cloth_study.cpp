@@ -33,6 +33,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cloth/air.h"
 #include "cloth/diagnostics.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
@@ -382,6 +383,25 @@ void writeNewtonInput(const std::string& path, const nlohmann::json& j) {
 
 }  // namespace
 
+// The external force the harness must apply at one state of the flag, from the library: the air
+// (cloth::addAirForces, where the case has air) and the linear drag, -drag m v; zero on pinned
+// particles. The harness checks its own (numpy) air model against it before it runs the case.
+nlohmann::json airCheck(const cloth::Model& m, const cloth::State& state, const std::vector<cloth::Pin>& pins,
+                        const engine::SceneConfig& s) {
+    cloth::Points f = cloth::Points::Zero(3, m.particleCount());
+    if (s.subsystems & engine::kAir) cloth::addAirForces(m, state, s.air, f);
+    for (cloth::Index i = 0; i < m.particleCount(); ++i) f.col(i) -= s.flag.drag * m.masses()[i] * state.v.col(i);
+    for (const cloth::Pin& p : pins) f.col(p.particle).setZero();
+    nlohmann::json j = {{"positions", nlohmann::json::array()}, {"velocities", nlohmann::json::array()},
+                        {"force", nlohmann::json::array()}};
+    for (cloth::Index i = 0; i < m.particleCount(); ++i) {
+        j["positions"].push_back({state.x(0, i), state.x(1, i), state.x(2, i)});
+        j["velocities"].push_back({state.v(0, i), state.v(1, i), state.v(2, i)});
+        j["force"].push_back({f(0, i), f(1, i), f(2, i)});
+    }
+    return j;
+}
+
 // One extreme case at one size, for the Newton harness: the demo's flag as engine::Flag builds it
 // (start positions and velocities, masses, springs, triangles, pins), every pin's target and the
 // carrier's velocity at the end of every 240 Hz tick, and the air and drag the flag feels (the
@@ -406,11 +426,13 @@ void exportExtremeForNewton(const std::string& dir, const engine::SceneConfig& d
     for (cloth::Index i = 0; i < m.particleCount(); ++i)
         j["velocities"].push_back({flag.state().v(0, i), flag.state().v(1, i), flag.state().v(2, i)});
     int steps = 0;
+    const int checkAt = int(x.duration / h / 2);
     for (int k = 1; k * h <= x.duration + 1e-9; ++k, ++steps) {
         const engine::RigidFrame c = x.carrier(k * h);
         flag.tick(h, c, {});
         j["pin_positions"].push_back(pinTargets(flag.pins()));
         j["carrier_velocity"].push_back({c.linearVelocity.x(), c.linearVelocity.y(), c.linearVelocity.z()});
+        if (k == checkAt) j["air_check"] = airCheck(m, flag.state(), flag.pins(), s);
     }
     j["steps"] = steps;
     writeNewtonInput(dir + "/extreme_" + x.name + "_" + std::to_string(size) + ".json", j);

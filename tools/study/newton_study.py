@@ -136,9 +136,9 @@ Extreme cases
 A JSON with ``"kind": "extreme"`` is one of cloth_study's extreme cases at one size (the demo's flag,
 k = 1e3 / 1e2 / 5 N/m, on a carrier driven through the case; pins and the carrier's velocity per
 240 Hz tick; its start velocities). It adds what the flag feels there: our air model (cloth/air.h,
-pressure drag, skin friction and lift per triangle, evaluated here in numpy; checked equal to the
-C++ to 4e-16 N on a 33x33 gale state) and the linear drag, both evaluated at the state before each
-Newton step and passed as ``state.particle_f`` (the external force that VBD's forward step, XPBD's
+pressure drag, skin friction and lift per triangle, evaluated here in numpy, and checked against the
+library's force at one exported state of every case: check_air_twin) and the linear drag, both
+evaluated at the state before each Newton step and passed as ``state.particle_f`` (the external force that VBD's forward step, XPBD's
 integrate_particles and Style3D's init step read), i.e. explicit air. There is no pole collision.
 Its row goes to the extreme CSV (``--extreme-csv``, default newton_extreme.csv beside OUT_CSV) with
 cloth_study's extreme.csv metrics: peak_stretch leaves out the 0.25 s after the pole's jump,
@@ -283,7 +283,7 @@ def load_case(path: Path) -> Case:
         kind=str(data.get("kind", "config")),
     )
     if case.kind == "extreme":
-        for name in ("velocities", "air", "drag", "jump_at", "carrier_velocity"):
+        for name in ("velocities", "air", "drag", "jump_at", "carrier_velocity", "air_check"):
             if name not in data:
                 raise InputError(f"{path}: missing field '{name}' (needed by an extreme case)")
         case.velocities = read("velocities", points)
@@ -291,10 +291,28 @@ def load_case(path: Path) -> Case:
         case.drag = read("drag", float)
         case.jump_at = read("jump_at", float)
         case.carrier_velocity = read("carrier_velocity", points)
+        check = read("air_check", lambda v: {k: points(v[k]) for k in ("positions", "velocities", "force")})
     elif case.kind != "config":
         raise InputError(f"{path}: field 'kind': '{case.kind}' is neither 'config' nor 'extreme'")
     check_case(case)
+    if case.kind == "extreme":
+        check_air_twin(case, check)
     return case
+
+
+def check_air_twin(case: Case, check: dict) -> None:
+    """external_forces (numpy) against the library's air and drag (cloth/air.h), which cloth_study
+    exported at one state of the case: the two must agree to rounding, or the Newton rows would
+    feel another air than ours."""
+    for key in ("positions", "velocities", "force"):
+        if check[key].shape != (case.n, 3):
+            raise InputError(f"{case.path}: field 'air_check': '{key}' has shape {check[key].shape}, expected ({case.n}, 3)")
+    ours = external_forces(case, check["positions"], check["velocities"])
+    scale = float(np.abs(check["force"]).max())
+    error = float(np.abs(ours - check["force"]).max())
+    if not error <= 1e-9 * scale + 1e-15:
+        raise InputError(f"{case.path}: field 'air_check': the harness's air and drag differ from cloth/air.h's by "
+                         f"{error:.3g} N (largest force {scale:.3g} N); external_forces must follow the library")
 
 
 def check_case(c: Case) -> None:
