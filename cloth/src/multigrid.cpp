@@ -889,35 +889,30 @@ bool Multigrid<T>::Impl::nestedTerms(Level& fine, const Level& coarse, int nx, i
                     halfOf[dy + 2][Dx + 2] = halfOf[2 - dy][2 - Dx] = int(halfOffsets.size());
                     halfOffsets.push_back({Dx, dy});
                 }
-    // Coarsening x: T((X, y), (X + Dx, y + dy)) = sum over a, b of w_a w_b W((2X + a, y), (2X + 2Dx + b, y + dy)).
-    std::vector<NestedTerm<T>> termsX, termsY;
-    for (std::size_t e = 0; e < halfOffsets.size(); ++e)
-        for (int a = -1; a <= 1; ++a)
-            for (int b = -1; b <= 1; ++b) {
-                const int fx = 2 * halfOffsets[e].first + b - a, fy = halfOffsets[e].second;
-                if (std::abs(fx) > 2 || bandOf[fy + 2][fx + 2] < 0) continue;
-                NestedTerm<T> t;
-                t.dst = int(e);
-                t.band = bandOf[fy + 2][fx + 2];
-                t.ax = a;
-                t.shift = std::min(fy * nx + fx, 0);
-                t.w = T(weight(a) * weight(b));
-                termsX.push_back(t);
-            }
-    // Then y: W_c((X, Y), (X + Dx, Y + Dy)) = sum over a, b of w_a w_b T((X, 2Y + a), (X + Dx, 2Y + 2Dy + b)).
-    for (std::size_t d = 0; d < D.size(); ++d)
-        for (int a = -1; a <= 1; ++a)
-            for (int b = -1; b <= 1; ++b) {
-                const int Dx = D[d].first, dy = 2 * D[d].second + b - a;
-                if (std::abs(dy) > 2 || halfOf[dy + 2][Dx + 2] < 0) continue;
-                NestedTerm<T> t;
-                t.dst = int(d);
-                t.band = halfOf[dy + 2][Dx + 2];
-                t.ay = a;
-                t.shift = std::min(dy * cx + Dx, 0);
-                t.w = T(weight(a) * weight(b));
-                termsY.push_back(t);
-            }
+    // One dimension's terms: output offset o = (ox, oy) gets, for a, b in {-1, 0, 1}, the source
+    // band of the offset with 2 o + b - a along the dimension coarsened and o along the other.
+    // x: T((X, y), (X + Dx, y + dy)) = sum over a, b of w_a w_b W((2X + a, y), (2X + 2Dx + b, y + dy));
+    // y: W_c((X, Y), (X + Dx, Y + Dy)) = sum over a, b of w_a w_b T((X, 2Y + a), (X + Dx, 2Y + 2Dy + b)).
+    auto termsOf = [&](const std::vector<std::pair<int, int>>& outs, const int (*source)[5], bool alongX, int pitch) {
+        std::vector<NestedTerm<T>> terms;
+        for (std::size_t d = 0; d < outs.size(); ++d)
+            for (int a = -1; a <= 1; ++a)
+                for (int b = -1; b <= 1; ++b) {
+                    int sx = outs[d].first, sy = outs[d].second;
+                    int& along = alongX ? sx : sy;
+                    along = 2 * along + b - a;
+                    if (std::abs(sx) > 2 || std::abs(sy) > 2 || source[sy + 2][sx + 2] < 0) continue;
+                    NestedTerm<T> t;
+                    t.dst = int(d);
+                    t.band = source[sy + 2][sx + 2];
+                    (alongX ? t.ax : t.ay) = a;
+                    t.shift = std::min(sy * pitch + sx, 0);
+                    t.w = T(weight(a) * weight(b));
+                    terms.push_back(t);
+                }
+        return terms;
+    };
+    std::vector<NestedTerm<T>> termsX = termsOf(halfOffsets, bandOf, true, nx), termsY = termsOf(D, halfOf, false, cx);
     // Where each (coarse band, row) goes; every entry of the coarse pattern must be one of them.
     std::vector<int> dst(D.size() * nc, -1);
     int reached = 0;
