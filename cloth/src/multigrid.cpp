@@ -230,10 +230,10 @@ CLOTH_SIMD_CLONES void bandedProduct(const BlockMatrix<T>& W, const T* X0, const
 // of 109 at once; perf, one double cycle at 129x129: 17% of the step instead of 22%.)
 template <class T>
 struct NestedTerm {
-    int dst = 0;    // coarse band (0: the diagonal), in the order of nestedOffsets()
-    int band = 0;   // fine band holding W(i, i + o) (0: the diagonal)
+    int dst = 0;    // output band (0: the diagonal): the intermediate grid's, or nestedOffsets()' order
+    int band = 0;   // source band holding W(i, i + o) (0: the diagonal)
     int ax = 0, ay = 0;
-    int shift = 0;  // the block's fine row: i (o in the upper half) or i + o (lower half: W_ji = W_ij)
+    int shift = 0;  // the block's source row: i (o in the upper half) or i + o (lower half: W_ji = W_ij)
     T w = 0;
 };
 
@@ -603,12 +603,11 @@ struct Multigrid<T>::Impl {
         // [planStart[d], planStart[d+1]) of planW * this level's block planSrc.
         std::vector<int> planStart, planSrc;
         std::vector<T> planW;
-        // Or, on nested grids (nestedGalerkinRow), the terms of one row of coarse blocks, this
-        // level's grid sides, and where each coarse (band, row) lands: its destination block (the
-        // diagonal I, or n_c + slot), -1 where the pair is off the coarse grid.
-        // By dimension: nestedX coarsens x (this level's rows into the intermediate grid cx x ny,
-        // whose blocks go to `half`: band e's six arrays at half[(6 e + q) * halfStride + halfPad]),
-        // nestedY then y (the intermediate rows into the coarse rows).
+        // Or, on nested grids (nestedGalerkinRow), by dimension: nestedX coarsens x (this level's
+        // rows into the intermediate grid cx x ny, whose blocks go to `half`: band e's six arrays
+        // at half[(6 e + q) * halfStride + halfPad]), nestedY then y (the intermediate rows into
+        // the coarse rows); this level's grid sides; and where each coarse (band, row) lands: its
+        // destination block (the diagonal I, or n_c + slot), -1 where the pair is off the coarse grid.
         std::vector<NestedTerm<T>> nestedX, nestedY;
         int halfBands = 0, halfPad = 0;
         std::size_t halfStride = 0;
@@ -970,7 +969,7 @@ bool Multigrid<T>::Impl::collapsePattern(Level& L, int nx) {
             const int o = std::abs(A.col[e] - i);
             if (o != 2 && o != 2 * nx) S.col.push_back(A.col[e]);
         }
-        std::sort(S.col.begin() + S.start.back(), S.col.end());
+        std::sort(S.col.begin() + S.start.back(), S.col.end());  // the order a plan then sums in
         S.start.push_back(int(S.col.size()));
     }
     std::vector<int> kept;

@@ -7,8 +7,8 @@
 //   coarsest: a dense Cholesky solve.
 // Coarse operators are Galerkin, W_c = P^T W P, rebuilt every step: on a grid whose sides are both
 // odd (17x17, 33x33, ...: the coarse grid keeps every other point) and whose coarse rows are long
-// enough (MultigridSettings::stencilGalerkinMinRow), as a fixed list of shifted bands of W, the
-// same for every coarse row ("by stencil"); otherwise from a plan computed once per model (which
+// enough (MultigridSettings::stencilGalerkinMinRow), one dimension at a time, each a fixed list
+// of shifted bands, the same for every row ("by stencil"); otherwise from a plan computed once per model (which
 // fine block, with which weight, lands in which coarse block). On a grid, level 0's product reads
 // S rather than W: W with each bend spring (i, i + 2) replaced by two springs over its halves
 // with twice its block (MultigridSettings::collapseBend), so every coarse level has the 9-point
@@ -123,7 +123,7 @@ public:
     Eigen::MatrixXd prolongation(int level) const;  // dense P from level + 1 to level
     // One V-cycle from x = 0 for the right-hand side b (3n, particle-major); returns x.
     Eigen::VectorXd vcycle(const Eigen::VectorXd& b);
-    // "geometric 33x33 17x17 9x9 5x5 (Galerkin; by stencil on 3 of 3 coarse levels)"
+    // "geometric 65x65 33x33 17x17 9x9 5x5 3x3 (Galerkin with bend springs collapsed; by stencil on 1 of 5 coarse levels)"
     std::string describeHierarchy() const;
 
 private:

@@ -71,7 +71,8 @@ struct MultigridSettings {
     bool singlePrecision = false;
     int coarsestParticles = 16;  // coarsen until a level has at most this many (not a key)
     // The Galerkin product by stencil (nested grids, multigrid.h) from this many coarse points per
-    // row; shorter rows use the plan, which was faster there (at 33x33: 1.4x). Not a key.
+    // row; shorter rows use the plan, which was faster there with the bend springs kept (at 33x33:
+    // 1.4x) and as fast with them collapsed. Not a key.
     int stencilGalerkinMinRow = 33;
 };
 
