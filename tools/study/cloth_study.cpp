@@ -352,6 +352,13 @@ engine::PoleMount extremeMount(const engine::SceneConfig& demo) {
 // What every Newton harness input holds (tools/study/newton_study.py reads it): the configuration's
 // name, size, stiffness and step, gravity, the cloth (start positions, masses, springs, triangles)
 // and its pinned particles. Pin targets per step are appended with pinTargets().
+// Points (3 x n) as n triples.
+nlohmann::json pointsJson(const Points& p) {
+    nlohmann::json j = nlohmann::json::array();
+    for (cloth::Index i = 0; i < p.cols(); ++i) j.push_back({p(0, i), p(1, i), p(2, i)});
+    return j;
+}
+
 nlohmann::json newtonInput(const std::string& name, int size, double k, double h, const cloth::Model& m,
                            const Points& x, const std::vector<cloth::Pin>& pins) {
     nlohmann::json j;
@@ -360,10 +367,8 @@ nlohmann::json newtonInput(const std::string& name, int size, double k, double h
     j["stiffness"] = k;
     j["h"] = h;
     j["gravity"] = {0.0, -9.81, 0.0};
-    for (cloth::Index i = 0; i < m.particleCount(); ++i) {
-        j["rest_positions"].push_back({x(0, i), x(1, i), x(2, i)});
-        j["masses"].push_back(m.masses()[i]);
-    }
+    j["rest_positions"] = pointsJson(x);
+    for (cloth::Index i = 0; i < m.particleCount(); ++i) j["masses"].push_back(m.masses()[i]);
     for (const cloth::Spring& sp : m.springs()) j["springs"].push_back({sp.i, sp.j, sp.k, sp.rest, cloth::toString(sp.kind)});
     for (const cloth::Triangle& t : m.triangles()) j["triangles"].push_back({t[0], t[1], t[2]});
     for (const cloth::Pin& p : pins) j["pinned"].push_back(p.particle);
@@ -381,8 +386,6 @@ void writeNewtonInput(const std::string& path, const nlohmann::json& j) {
     std::filesystem::rename(path + ".tmp", path);
 }
 
-}  // namespace
-
 // The external force the harness must apply at one state of the flag, from the library: the air
 // (cloth::addAirForces, where the case has air) and the linear drag, -drag m v; zero on pinned
 // particles. The harness checks its own (numpy) air model against it before it runs the case.
@@ -392,15 +395,10 @@ nlohmann::json airCheck(const cloth::Model& m, const cloth::State& state, const 
     if (s.subsystems & engine::kAir) cloth::addAirForces(m, state, s.air, f);
     for (cloth::Index i = 0; i < m.particleCount(); ++i) f.col(i) -= s.flag.drag * m.masses()[i] * state.v.col(i);
     for (const cloth::Pin& p : pins) f.col(p.particle).setZero();
-    nlohmann::json j = {{"positions", nlohmann::json::array()}, {"velocities", nlohmann::json::array()},
-                        {"force", nlohmann::json::array()}};
-    for (cloth::Index i = 0; i < m.particleCount(); ++i) {
-        j["positions"].push_back({state.x(0, i), state.x(1, i), state.x(2, i)});
-        j["velocities"].push_back({state.v(0, i), state.v(1, i), state.v(2, i)});
-        j["force"].push_back({f(0, i), f(1, i), f(2, i)});
-    }
-    return j;
+    return {{"positions", pointsJson(state.x)}, {"velocities", pointsJson(state.v)}, {"force", pointsJson(f)}};
 }
+
+}  // namespace
 
 // One extreme case at one size, for the Newton harness: the demo's flag as engine::Flag builds it
 // (start positions and velocities, masses, springs, triangles, pins), every pin's target and the
@@ -423,8 +421,7 @@ void exportExtremeForNewton(const std::string& dir, const engine::SceneConfig& d
                 {"drag_coefficient", s.air.dragCoefficient},
                 {"lift_coefficient", s.air.liftCoefficient},
                 {"friction_coefficient", s.air.frictionCoefficient}};
-    for (cloth::Index i = 0; i < m.particleCount(); ++i)
-        j["velocities"].push_back({flag.state().v(0, i), flag.state().v(1, i), flag.state().v(2, i)});
+    j["velocities"] = pointsJson(flag.state().v);
     int steps = 0;
     const int checkAt = int(x.duration / h / 2);
     for (int k = 1; k * h <= x.duration + 1e-9; ++k, ++steps) {
