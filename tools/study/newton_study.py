@@ -255,6 +255,8 @@ def load_case(path: Path) -> Case:
             return convert(data[name])
         except (TypeError, ValueError, IndexError) as e:
             raise InputError(f"{path}: field '{name}' is malformed: {e}") from e
+        except KeyError as e:  # a field that is an object without one of its keys
+            raise InputError(f"{path}: field '{name}' is malformed: it has no key {e}") from e
 
     def points(v):
         return np.asarray(v, dtype=float).reshape(-1, 3)
