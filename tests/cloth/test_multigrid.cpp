@@ -57,6 +57,12 @@ Case stiffCase(int nx, int ny, bool mesh, unsigned seed, Scalar rough = 0.01) {
     return {std::move(model), std::move(state), std::move(pins), std::move(external)};
 }
 
+// A cloth of stiffCase: its grid sides, and whether it is the mesh of that grid.
+struct Size {
+    int nx, ny;
+    bool mesh;
+};
+
 StepInput inputOf(const Case& c, Scalar h = 1.0 / 240) {
     StepInput in;
     in.h = h;
@@ -95,10 +101,6 @@ Points stepDv(const std::string& spec, const Case& c, const Environment& env = {
 }  // namespace
 
 TEST(Multigrid, OneVCycleReducesTheResidualOfARandomRightHandSideFivefold) {
-    struct Size {
-        int nx, ny;
-        bool mesh;
-    };
     // A V(2,2) cycle (two sweeps before and after) must reduce the residual at least 5x on every
     // cloth: that measures the hierarchy. The default V(1,1) cycle (cheaper per CG iteration, and
     // on the vehicle path as accurate at the same tolerance) must reduce it 5x on grids and 3x on
@@ -162,14 +164,12 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
     // copy filled from the bands); the mesh: aggregation, the plan. Every grid twice: with its
     // bend springs as they are, and collapsed onto their halves for the coarse levels (then level 1
     // is P^T S P with S from denselyCollapsed).
-    struct Size {
-        int nx, ny;
-        bool mesh;
-        const char* path;
+    struct Path {
+        Size s;
+        const char* path;  // in describeHierarchy()
     };
-    for (const Size s : {Size{11, 8, false, "(Galerkin"}, Size{21, 17, false, "by stencil on 2 of 3 coarse levels"},
-                         Size{25, 15, false, "by stencil on 1 of"},
-                         Size{11, 8, true, "(Galerkin)"}})
+    for (const auto& [s, path] : {Path{{11, 8, false}, "(Galerkin"}, Path{{21, 17, false}, "by stencil on 2 of 3 coarse levels"},
+                                   Path{{25, 15, false}, "by stencil on 1 of"}, Path{{11, 8, true}, "(Galerkin)"}})
     for (const bool collapse : {false, true}) {
         const bool mesh = s.mesh;
         Case c = stiffCase(s.nx, s.ny, mesh, 5);
@@ -188,7 +188,7 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
         mg.vcycle(Eigen::VectorXd::Zero(3 * c.model.particleCount()));  // builds the coarse levels
         ASSERT_GE(mg.levels(), 2);
         const std::string hierarchy = mg.describeHierarchy();
-        EXPECT_NE(hierarchy.find(s.path), std::string::npos) << hierarchy;
+        EXPECT_NE(hierarchy.find(path), std::string::npos) << hierarchy;
         EXPECT_EQ(hierarchy.find("with bend springs collapsed") != std::string::npos, collapse && !mesh) << hierarchy;
         // Level 0 is the reference W of the free particles.
         const Eigen::MatrixXd W = referenceFreeMatrix(c, sys);
@@ -207,10 +207,6 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
 }
 
 TEST(Multigrid, ToTenToTheMinusTenEqualsTheCholeskySolve) {
-    struct Size {
-        int nx, ny;
-        bool mesh;
-    };
     // 65x11: the Galerkin product by stencil from level 0 (rows of 33 coarse points).
     for (const Size s : {Size{33, 21, false}, Size{33, 21, true}, Size{65, 11, false}}) {
         const bool mesh = s.mesh;
@@ -249,10 +245,6 @@ TEST(Multigrid, AdaptiveCyclesStopAtTheToleranceAndReportTheCount) {
 }
 
 TEST(Multigrid, OneAndTwoThreadsAreBitIdentical) {
-    struct Size {
-        int nx, ny;
-        bool mesh;
-    };
     for (const Size s : {Size{37, 29, false}, Size{37, 29, true}, Size{65, 11, false}})
         for (const char* precision : {"double", "float"}) {
             const bool mesh = s.mesh;
