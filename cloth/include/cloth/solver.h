@@ -67,6 +67,12 @@ struct MultigridSettings {
     // than as a stationary iteration. The V-cycle is symmetric (the same damped Jacobi before and
     // after), so CG applies.
     bool conjugateGradients = true;
+    // Where each solve starts: from the previous step's dv (on the rows free now; one product
+    // with W more per step, and from zero when that residual is not smaller than |b|), or from
+    // zero. Auto: the previous dv when adaptive (the cycles to the tolerance drop), zero for a
+    // fixed count (whose cost it would raise).
+    enum class Start { Auto, Previous, Zero };
+    Start start = Start::Auto;
     int threads = 1;
     bool singlePrecision = false;
     int coarsestParticles = 16;  // coarsen until a level has at most this many (not a key)
