@@ -1646,12 +1646,12 @@ bool Multigrid<T>::solve(const Model& model, const Environment& env, const State
         m.cgX.assign(L.b.size(), T(0));
         stats.residual = 0;
     }
-    if (m.warmStart()) m.previous = m.cgX;
     dv.resize(3, n);
     double* out = dv.data();
     for (int i = 0; i < n; ++i)
         for (int a = 0; a < 3; ++a)
             out[3 * i + a] = L.pinned[i] ? double(m.pinDv[3 * i + a]) : double(m.cgX[3 * std::size_t(i) + a]);
+    if (m.warmStart()) m.previous.swap(m.cgX);  // the next start() rewrites cgX
     return dv.allFinite();
 }
 
