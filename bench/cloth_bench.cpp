@@ -43,12 +43,16 @@ void stepFlag(benchmark::State& bm, const char* spec) {
     input.h = kH;
     input.pins = flag.pins;
     for (int s = 0; s < 30; ++s) solver->step(flag.model, env, flag.state, input);
+    double iterations = 0;
     for (auto _ : bm) {
-        solver->step(flag.model, env, flag.state, input);
+        iterations += solver->step(flag.model, env, flag.state, input).iterations;
         benchmark::ClobberMemory();
     }
     bm.counters["particle_steps/s"] =
         benchmark::Counter(double(flag.model.particleCount()) * bm.iterations(), benchmark::Counter::kIsRate);
+    // Solver iterations per step (multigrid: V-cycles), so that cost per iteration can be compared
+    // across sizes.
+    bm.counters["iterations/step"] = iterations / double(bm.iterations());
     // Strain after a fixed 1 s of simulated time from the start (same for every solver).
     cloth::HangingFlag fresh = flagOfSize(static_cast<int>(bm.range(0)));
     auto again = cloth::makeSolver(config);
