@@ -24,13 +24,15 @@ def main():
           f"{ctx.get('date', '')}; build {ctx.get('library_build_type', '?')}. "
           "Medians over repetitions (CPU time of the calling thread and wall time).")
     print()
-    print("| benchmark | wall us/step | CPU us/step | particle-steps/s (M) | max stretch after 1 s |")
-    print("|---|---:|---:|---:|---:|")
+    print("| benchmark | wall us/step | CPU us/step | particle-steps/s (M) | iterations/step | max stretch after 1 s |")
+    print("|---|---:|---:|---:|---:|---:|")
     for name, bs in runs.items():
         med = lambda key: statistics.median(b[key] for b in bs)
         rate = statistics.median(b.get("particle_steps/s", 0) for b in bs) / 1e6
         stretch = statistics.median(b.get("max_stretch", float("nan")) for b in bs)
-        print(f"| {name} | {med('real_time'):.1f} | {med('cpu_time'):.1f} | {rate:.2f} | {stretch:.4f} |")
+        iters = [b["iterations/step"] for b in bs if "iterations/step" in b]
+        iters = f"{statistics.median(iters):.2f}" if iters else ""
+        print(f"| {name} | {med('real_time'):.1f} | {med('cpu_time'):.1f} | {rate:.2f} | {iters} | {stretch:.4f} |")
 
 
 if __name__ == "__main__":
