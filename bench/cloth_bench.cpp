@@ -5,9 +5,9 @@
 // 30 steps, so the timed steps see a deformed cloth. The timed steps are steps 31..90, in whole
 // windows of kWindow steps (the state is put back between windows, outside the timing): every row
 // of a size times the same motion, however long it runs, so an adaptive solver's cycle count does
-// not depend on how many iterations Google Benchmark picks. Counters: particle_steps/s, iterations/step (solver
-// iterations; multigrid: V-cycles), and for the strain comparison the max stretch after 240 steps
-// at h = 1/240 s.
+// not depend on how many iterations Google Benchmark picks. Counters: particle_steps/s,
+// iterations/step (solver iterations; multigrid: V-cycles), and for the strain comparison the max
+// stretch after 240 steps at h = 1/240 s.
 
 #include <benchmark/benchmark.h>
 
