@@ -1344,16 +1344,16 @@ void Multigrid<T>::Impl::galerkin(int l) {
         std::size_t bandAt[BlockMatrix<T>::kMaxBands + 1];
         for (std::size_t k = 0; k <= W.offsets.size(); ++k) bandAt[k] = 6 * k * W.stride + W.pad;
         T* half = levels[l].half.data();
+        std::size_t halfAt[BlockMatrix<T>::kMaxBands + 1];  // band e's first array in `half`
+        for (int e = 0; e < F.halfBands; ++e) halfAt[e] = 6 * std::size_t(e) * F.halfStride + F.halfPad;
         pool.run(ny, [&](int begin, int end) {
             T* out[BlockMatrix<T>::kMaxBands + 1];
             for (int y = begin; y < end; ++y) {
-                for (int e = 0; e < F.halfBands; ++e) out[e] = half + 6 * std::size_t(e) * F.halfStride + F.halfPad + y * cx;
+                for (int e = 0; e < F.halfBands; ++e) out[e] = half + halfAt[e] + y * cx;
                 nestedGalerkinRow<T, 2>(F.nestedX.data(), int(F.nestedX.size()), W.values.data(), bandAt, W.stride, nx,
                                         ny, 1, cx, y, out, F.halfStride, F.halfBands);
             }
         });
-        std::size_t halfAt[BlockMatrix<T>::kMaxBands + 1];
-        for (int e = 0; e < F.halfBands; ++e) halfAt[e] = 6 * std::size_t(e) * F.halfStride + F.halfPad;
         // Then y, row by coarse row. A banded coarse level gets its rows in place: band d of the
         // terms is band bandC[d] of C (-1: no such band; then no pair of the pattern has that
         // offset, and where a band's pair is off the grid, the terms sum to zero, as the band
