@@ -50,12 +50,10 @@ void stepFlag(benchmark::State& bm, const char* spec) {
     for (int s = 0; s < 30; ++s) solver->step(flag.model, env, flag.state, input);
     const cloth::State start = flag.state;
     double iterations = 0;
-    for (bool first = true; bm.KeepRunningBatch(kWindow); first = false) {  // whole windows only
-        if (!first) {
-            bm.PauseTiming();
-            flag.state = start;
-            bm.ResumeTiming();
-        }
+    while (bm.KeepRunningBatch(kWindow)) {  // whole windows only, each from the same state
+        bm.PauseTiming();
+        flag.state = start;
+        bm.ResumeTiming();
         for (int s = 0; s < kWindow; ++s) {
             iterations += solver->step(flag.model, env, flag.state, input).iterations;
             benchmark::ClobberMemory();
