@@ -670,6 +670,12 @@ struct Multigrid<T>::Impl {
     void collapseBends(Level& L);
     void galerkin(int l);
     void coarseOperators(T h2, bool compressionRule);
+    // coarseOperators() unless the last ones may be reused (MultigridSettings::coarseEvery).
+    void refreshCoarse(T h2, bool compressionRule);
+    int coarseAge = -1;  // solves since the coarse operators were built (-1: none for this model)
+    std::vector<unsigned char> coarsePinned;
+    T coarseH2 = 0;
+    bool coarseCompression = true;
     void factorCoarsest();
     void product(int l, const std::vector<T>& x, const std::vector<T>* b, std::vector<T>& out);
     void residual(int l, const std::vector<T>& x, const std::vector<T>& b, std::vector<T>& r) { product(l, x, &b, r); }
@@ -697,6 +703,7 @@ template <class T>
 void Multigrid<T>::Impl::prepare(const Model& model) {
     modelId = model.id();
     previous.clear();
+    coarseAge = -1;
     const int n = model.particleCount();
     int nestedTransfers = 0;
     levels.clear();
@@ -1281,6 +1288,23 @@ void Multigrid<T>::Impl::coarseOperators(T h2, bool compressionRule) {
     factorCoarsest();
 }
 
+// With one level the coarsest is the finest, which changes every step.
+template <class T>
+void Multigrid<T>::Impl::refreshCoarse(T h2, bool compressionRule) {
+    const Level& L = levels[0];
+    const bool reuse = levels.size() > 1 && coarseAge >= 0 && coarseAge + 1 < settings.coarseEvery &&
+                       h2 == coarseH2 && compressionRule == coarseCompression && L.pinned == coarsePinned;
+    if (reuse) {
+        ++coarseAge;
+        return;
+    }
+    coarseOperators(h2, compressionRule);
+    coarseAge = 0;
+    coarsePinned = L.pinned;
+    coarseH2 = h2;
+    coarseCompression = compressionRule;
+}
+
 // S = W with its bend springs collapsed. A bend spring (i, j = i + 2 d) with block O = W_ij and
 // midpoint m = i + d is replaced by two springs (i, m), (m, j) with block 2 O each: the same energy
 // for a displacement linear from i to j, so the coarse levels still see the bend springs' share of
@@ -1646,7 +1670,7 @@ bool Multigrid<T>::solve(const Model& model, const Environment& env, const State
     prepareSystem(model, env, state, input, compressionRule);
     if (forcesMs) *forcesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     Impl& m = *impl_;
-    m.coarseOperators(m.lastH2, m.lastCompression);
+    m.refreshCoarse(m.lastH2, m.lastCompression);
 
     typename Impl::Level& L = m.levels[0];
     const int n = L.A.n;

@@ -296,6 +296,42 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndStartsFromZeroAfterAJ
     EXPECT_EQ(fixed->lastDv(), fresh->lastDv());
 }
 
+TEST(Multigrid, ReusedCoarseOperatorsStillReachTheToleranceAndAreRebuiltWhenThePinsChange) {
+    // A flag swinging down from horizontal, its coarse operators rebuilt every 8th step.
+    HangingFlagDesc d;
+    d.nx = d.ny = 33;
+    HangingFlag flag = makeHangingFlag(d);
+    StepInput in;
+    in.h = 1.0 / 240;
+    in.pins = flag.pins;
+    const double tol = 1e-4;
+    auto lagged = solverFor("multigrid:tolerance=1e-4,max_cycles=50,coarse_every=8");
+    auto lagged1 = solverFor("multigrid:cycles=1,coarse_every=1000");
+    State oneCycle = flag.state;
+    for (int k = 0; k < 10; ++k) {
+        // The residual of the reference path's system at this step, not the solver's own.
+        LinearSystem sys;
+        buildSystem(flag.model, {}, flag.state, in, true, sys);
+        ASSERT_EQ(lagged->step(flag.model, {}, flag.state, in).status, StepStatus::Ok);
+        EXPECT_LE(relativeResidual(flag.model, sys, lagged->lastDv()), tol) << k;
+        ASSERT_EQ(lagged1->step(flag.model, {}, oneCycle, in).status, StepStatus::Ok);
+    }
+    // The reuse is real: after 10 steps one cycle with the first step's coarse operators is not
+    // one cycle with the current ones.
+    auto fresh = solverFor("multigrid:cycles=1");
+    State a = oneCycle, b = oneCycle;
+    lagged1->step(flag.model, {}, a, in);
+    fresh->step(flag.model, {}, b, in);
+    EXPECT_NE(lagged1->lastDv(), fresh->lastDv());
+    // Releasing a pin rebuilds them: the same bits as a solver that has never reused anything.
+    in.pins.pop_back();
+    a = oneCycle, b = oneCycle;
+    lagged1->step(flag.model, {}, a, in);
+    auto fresher = solverFor("multigrid:cycles=1");
+    fresher->step(flag.model, {}, b, in);
+    EXPECT_EQ(lagged1->lastDv(), fresher->lastDv());
+}
+
 TEST(Multigrid, OneAndTwoThreadsAreBitIdentical) {
     for (const Size s : {Size{37, 29, false}, Size{37, 29, true}, Size{65, 11, false}})
         for (const char* precision : {"double", "float"}) {

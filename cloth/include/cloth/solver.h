@@ -63,6 +63,11 @@ struct MultigridSettings {
     // a displacement linear along the spring. The fine level keeps the true W (smoother, residual,
     // CG); only the coarse operators change, from a 25-point stencil to a 9-point one.
     bool collapseBend = true;
+    // Coarse operators (and the coarsest factorization) rebuilt every this many solves, and
+    // reused in between while the pinned particles, h and the Jacobian rule stay the same. The
+    // finest level (smoother, residuals, CG) is always the current W, so an adaptive solve still
+    // reaches its tolerance on the current system; only the coarse correction lags.
+    int coarseEvery = 1;
     // Cycles as the preconditioner of conjugate gradients (one V-cycle per CG iteration) rather
     // than as a stationary iteration. The V-cycle is symmetric (the same damped Jacobi before and
     // after), so CG applies.
