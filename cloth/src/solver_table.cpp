@@ -77,7 +77,7 @@ const std::vector<SolverKind>& solverKinds() {
                                                "coarse operators: P^T W P, or the cloth re-discretized (grids)"),
                   integer<M>("coarse_every", &M::coarseEvery, 1, 1000,
                              "rebuild the coarse operators every this many steps (reused in between while "
-                             "pins and h are unchanged)"),
+                             "pins and h are unchanged; on a moving flag the cycles rise)"),
                   choice<M, bool>("bend", &M::collapseBend, {{"collapse", true}, {"keep", false}},
                                   "Galerkin on grids: coarse levels see each bend spring as two over its halves "
                                   "(9-point coarse stencil), or as it is"),
