@@ -245,7 +245,7 @@ TEST(Multigrid, AdaptiveCyclesStopAtTheToleranceAndReportTheCount) {
 }
 
 TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndStartsFromZeroAfterAJump) {
-    // A flag swinging down under gravity from horizontal.
+    // The hanging flag (vertical, pinned along its pole) sagging under gravity from rest.
     HangingFlagDesc d;
     d.nx = d.ny = 33;
     HangingFlag flag = makeHangingFlag(d);
@@ -297,7 +297,7 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndStartsFromZeroAfterAJ
 }
 
 TEST(Multigrid, ReusedCoarseOperatorsStillReachTheToleranceAndAreRebuiltWhenThePinsChange) {
-    // A flag swinging down from horizontal, its coarse operators rebuilt every 8th step.
+    // The hanging flag sagging under gravity from rest, its coarse operators rebuilt every 8th step.
     HangingFlagDesc d;
     d.nx = d.ny = 33;
     HangingFlag flag = makeHangingFlag(d);
