@@ -38,16 +38,19 @@ cloth::HangingFlag flagOfSize(int n) {
 
 enum class Pole { Still, Swung };
 
-// The pins at time t: the flag's own, or moved with the swung pole, a horizontal circle of radius
-// 0.15 m at 2 Hz through the flag's plane and across it (the flag hangs in x-y from column 0).
-std::vector<cloth::Pin> pinsAt(const cloth::HangingFlag& flag, Pole pole, double t) {
-    std::vector<cloth::Pin> pins = flag.pins;
-    if (pole == Pole::Still) return pins;
-    const double w = 2 * 3.14159265358979323846 * 2, r = 0.15;
+// The input of step s (at t = s h): the flag's own pins, or pins moved with the swung pole, a
+// horizontal circle of radius 0.15 m at 2 Hz through the flag's plane and across it (the flag
+// hangs in x-y from column 0).
+cloth::StepInput inputOfStep(const cloth::HangingFlag& flag, Pole pole, int s) {
+    cloth::StepInput in;
+    in.h = kH;
+    in.pins = flag.pins;
+    if (pole == Pole::Still) return in;
+    const double w = 2 * 3.14159265358979323846 * 2, r = 0.15, t = s * kH;
     const cloth::Vec3 d(r * std::sin(w * t), 0, r * (1 - std::cos(w * t)));
     const cloth::Vec3 v(r * w * std::cos(w * t), 0, r * w * std::sin(w * t));
-    for (cloth::Pin& p : pins) p.x += d, p.v = v;
-    return pins;
+    for (cloth::Pin& p : in.pins) p.x += d, p.v = v;
+    return in;
 }
 
 // Arguments: the flag's side and the thread count (0: a solver without a thread setting).
@@ -63,11 +66,8 @@ void stepFlag(benchmark::State& bm, const char* spec, Pole pole) {
     auto solver = cloth::makeSolver(config);
     cloth::Environment env;
     constexpr int kWarmUp = 30;
-    std::vector<cloth::StepInput> inputs(kWarmUp + kWindow);  // step s at t = s h
-    for (int s = 0; s < kWarmUp + kWindow; ++s) {
-        inputs[s].h = kH;
-        inputs[s].pins = pinsAt(flag, pole, s * kH);
-    }
+    std::vector<cloth::StepInput> inputs;  // made before the timing
+    for (int s = 0; s < kWarmUp + kWindow; ++s) inputs.push_back(inputOfStep(flag, pole, s));
     for (int s = 0; s < kWarmUp; ++s) solver->step(flag.model, env, flag.state, inputs[s]);
     const cloth::State start = flag.state;
     double iterations = 0;
@@ -88,12 +88,7 @@ void stepFlag(benchmark::State& bm, const char* spec, Pole pole) {
     // Strain after a fixed 1 s of simulated time from the start (same for every solver).
     cloth::HangingFlag fresh = flagOfSize(static_cast<int>(bm.range(0)));
     auto again = cloth::makeSolver(config);
-    cloth::StepInput input;
-    input.h = kH;
-    for (int s = 0; s < 240; ++s) {
-        input.pins = pinsAt(fresh, pole, s * kH);
-        again->step(fresh.model, env, fresh.state, input);
-    }
+    for (int s = 0; s < 240; ++s) again->step(fresh.model, env, fresh.state, inputOfStep(fresh, pole, s));
     bm.counters["max_stretch"] = cloth::measure(fresh.model, env, fresh.state, true).maxStretch;
 }
 
