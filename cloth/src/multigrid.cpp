@@ -1715,7 +1715,8 @@ Eigen::MatrixXd Multigrid<T>::prolongation(int level) const {
 template <class T>
 Eigen::VectorXd Multigrid<T>::vcycle(const Eigen::VectorXd& b) {
     Impl& m = *impl_;
-    m.coarseOperators(m.lastH2, m.lastCompression);
+    m.coarseAge = -1;  // built now, for the system prepareSystem made, and recorded as such for solve()
+    m.refreshCoarse(m.lastH2, m.lastCompression);
     typename Impl::Level& L = m.levels[0];
     for (int q = 0; q < 3 * L.A.n; ++q) L.b[q] = T(b[q]) * L.active[q / 3], L.x[q] = T(0);
     L.r = L.b;
