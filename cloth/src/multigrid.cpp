@@ -612,6 +612,7 @@ struct Multigrid<T>::Impl {
         std::size_t xStride = 0;
         std::vector<T> dinv, active;  // 6n; 1 for a row with an unknown, 0 for a pinned (empty) one
         std::vector<T> x, b, r;       // 3n
+        std::vector<T> kb, kc, kq, kq2;  // K-cycle levels: the right-hand side, c1, W c1, W c2
         Transfer P;                   // to the next coarser level (unused on the last)
         // Galerkin plan for the next level's blocks: dst block d gets sum over
         // [planStart[d], planStart[d+1]) of planW * this level's block planSrc.
@@ -681,6 +682,7 @@ struct Multigrid<T>::Impl {
     void residual(int l, const std::vector<T>& x, const std::vector<T>& b, std::vector<T>& r) { product(l, x, &b, r); }
     void smooth(int l, bool residualKnown);
     void cycle(int l, bool residualKnown);
+    void coarseSolve(int l);
     double norm(const std::vector<T>& v);
     double dot(const std::vector<T>& a, const std::vector<T>& b);
     void precondition(const std::vector<T>& r, std::vector<T>& z);  // z = V-cycle(r) from zero
@@ -1542,7 +1544,7 @@ void Multigrid<T>::Impl::cycle(int l, bool residualKnown) {
             }
         }
     });
-    cycle(l + 1, true);
+    coarseSolve(l + 1);
     pool.run(L.A.n, [&](int begin, int end) {  // x += P x_c on rows with an unknown
         for (int i = begin; i < end; ++i) {
             T acc[3];
@@ -1551,6 +1553,38 @@ void Multigrid<T>::Impl::cycle(int l, bool residualKnown) {
         }
     });
     for (int s = 0; s < settings.postSweeps; ++s) smooth(l, false);
+}
+
+// Level l's x from its b (with r = b, x = 0): one cycle, or on a K-cycle level two iterations of
+// flexible CG, each preconditioned by one cycle: c1 = B b, then c2 = B (b - t1 W c1), and x the
+// combination of c1 and c2 that minimizes the W-norm of the error over their span.
+template <class T>
+void Multigrid<T>::Impl::coarseSolve(int l) {
+    Level& C = levels[l];
+    if (l > settings.kcycleLevels || l + 1 == int(levels.size())) return cycle(l, true);
+    C.kb = C.b;
+    cycle(l, true);
+    C.kc = C.x;
+    product(l, C.kc, nullptr, C.kq);
+    const double rho1 = dot(C.kc, C.kq);
+    if (!(rho1 > 0)) return;  // c1 = 0: b = 0, and x = c1
+    const double t1 = dot(C.kc, C.kb) / rho1;
+    const T t1T = T(t1);
+    pool.run(C.A.n, [&](int begin, int end) {
+        for (std::size_t q = 3 * std::size_t(begin); q < 3 * std::size_t(end); ++q) {
+            C.b[q] = C.r[q] = C.kb[q] - t1T * C.kq[q];
+            C.x[q] = T(0);
+        }
+    });
+    cycle(l, true);
+    product(l, C.x, nullptr, C.kq2);
+    const double gamma = dot(C.x, C.kq), beta = dot(C.x, C.kq2), alpha2 = dot(C.x, C.b);
+    const double rho2 = beta - gamma * gamma / rho1;
+    const bool second = rho2 > 1e-12 * beta;  // else c2 adds nothing independent of c1
+    const T w1 = T(second ? t1 - gamma * alpha2 / (rho1 * rho2) : t1), w2 = T(second ? alpha2 / rho2 : 0.0);
+    pool.run(C.A.n, [&](int begin, int end) {
+        for (std::size_t q = 3 * std::size_t(begin); q < 3 * std::size_t(end); ++q) C.x[q] = w1 * C.kc[q] + w2 * C.x[q];
+    });
 }
 
 template <class T>
@@ -1628,22 +1662,25 @@ void Multigrid<T>::Impl::conjugateGradients(double bNorm, MultigridStats& stats)
     double rel = start(cgX, cgR, bNorm);
     const bool adaptive = s.cycles == 0;
     const int cap = adaptive ? s.maxCycles : s.cycles;
-    double rz = 0;
+    double rz = 0, alpha = 0;
     while (stats.cycles < cap && (!adaptive || rel > s.tolerance)) {
         precondition(cgR, cgZ);
         ++stats.cycles;
         const double rzNext = dot(cgR, cgZ);
         if (stats.cycles == 1) cgP = cgZ;
         else {
-            const T beta = T(rzNext / rz);
+            // A K-cycle is not a fixed linear operator: the flexible beta z.(r - r_last) / rz,
+            // with r - r_last = -alpha W p_last (in cgQ), keeps the directions conjugate.
+            const T beta = T(s.kcycleLevels > 0 ? -alpha * dot(cgZ, cgQ) / rz : rzNext / rz);
             for (std::size_t q = 0; q < cgP.size(); ++q) cgP[q] = cgZ[q] + beta * cgP[q];
         }
         rz = rzNext;
         product(0, cgP, nullptr, cgQ);  // q = W p
         const double pq = dot(cgP, cgQ);
         if (!(pq > 0)) break;  // W p = 0 only for p = 0: converged to rounding
-        const T alpha = T(rz / pq);
-        for (std::size_t q = 0; q < cgX.size(); ++q) cgX[q] += alpha * cgP[q], cgR[q] -= alpha * cgQ[q];
+        alpha = rz / pq;
+        const T a = T(alpha);
+        for (std::size_t q = 0; q < cgX.size(); ++q) cgX[q] += a * cgP[q], cgR[q] -= a * cgQ[q];
         if (adaptive) rel = norm(cgR) / bNorm;
     }
     stats.residual = adaptive ? rel : -1;
@@ -1714,13 +1751,19 @@ Eigen::MatrixXd Multigrid<T>::prolongation(int level) const {
 
 template <class T>
 Eigen::VectorXd Multigrid<T>::vcycle(const Eigen::VectorXd& b) {
+    return coarseSolve(0, b);
+}
+
+template <class T>
+Eigen::VectorXd Multigrid<T>::coarseSolve(int level, const Eigen::VectorXd& b) {
     Impl& m = *impl_;
     m.coarseAge = -1;  // built now, for the system prepareSystem made, and recorded as such for solve()
     m.refreshCoarse(m.lastH2, m.lastCompression);
-    typename Impl::Level& L = m.levels[0];
+    typename Impl::Level& L = m.levels[level];
     for (int q = 0; q < 3 * L.A.n; ++q) L.b[q] = T(b[q]) * L.active[q / 3], L.x[q] = T(0);
     L.r = L.b;
-    m.cycle(0, true);
+    if (level == 0) m.cycle(0, true);
+    else m.coarseSolve(level);
     Eigen::VectorXd x(3 * L.A.n);
     for (int q = 0; q < 3 * L.A.n; ++q) x[q] = double(L.x[q]);
     return x;

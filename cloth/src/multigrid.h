@@ -125,6 +125,11 @@ public:
     Eigen::MatrixXd prolongation(int level) const;  // dense P from level + 1 to level
     // One V-cycle from x = 0 for the right-hand side b (3n, particle-major); returns x.
     Eigen::VectorXd vcycle(const Eigen::VectorXd& b);
+    // What coarse level `level` hands back to the finer one for its right-hand side b (3 n_level,
+    // in the level's point order): one cycle from there, or on a K-cycle level
+    // (MultigridSettings::kcycleLevels) two flexible CG iterations each preconditioned by one.
+    // Level 0: vcycle(b).
+    Eigen::VectorXd coarseSolve(int level, const Eigen::VectorXd& b);
     // "geometric 65x65 33x33 17x17 9x9 5x5 3x3 (Galerkin with bend springs collapsed; by stencil on 1 of 5 coarse levels)"
     std::string describeHierarchy() const;
 

@@ -83,6 +83,9 @@ const std::vector<SolverKind>& solverKinds() {
                                   "(9-point coarse stencil), or as it is"),
                   choice<M, bool>("krylov", &M::conjugateGradients, {{"cg", true}, {"none", false}},
                                   "cg: V-cycles precondition CG; none: V-cycles alone"),
+                  integer<M>("kcycle", &M::kcycleLevels, 0, 100,
+                             "coarse levels 1..N solved by two flexible CG iterations preconditioned by a "
+                             "cycle (K-cycle); 0: V-cycle"),
                   choice<M, M::Start>("start", &M::start,
                                       {{"auto", M::Start::Auto}, {"previous", M::Start::Previous}, {"zero", M::Start::Zero}},
                                       "each solve from the previous step's dv (where its residual is smaller) or "

@@ -206,6 +206,38 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
     }
 }
 
+TEST(Multigrid, AKCycleLevelReturnsTheEnergyMinimizerOverItsTwoCycles) {
+    // On a K-cycle level, the coarse solve is two flexible CG iterations: c1 = B b, c2 = B (b - t1
+    // W c1) with t1 = c1.b / c1.W c1 (B: one cycle from that level, the same with or without the
+    // K-cycle above it), and the answer is the x in span{c1, c2} closest to W^-1 b in the W-norm.
+    // Here c1 and c2 come from a V-cycle solver, and the minimizer from the dense 2x2 projection.
+    for (const Size s : {Size{65, 65, false}, Size{40, 27, false}, Size{41, 33, true}}) {
+        const Case c = stiffCase(s.nx, s.ny, s.mesh, 5);
+        MultigridSettings vs, ks;
+        ks.kcycleLevels = 1;
+        Multigrid<double> v(vs), k(ks);
+        v.prepareSystem(c.model, {}, c.state, inputOf(c), true);
+        k.prepareSystem(c.model, {}, c.state, inputOf(c), true);
+        k.vcycle(Eigen::VectorXd::Zero(3 * c.model.particleCount()));  // builds the coarse levels
+        ASSERT_GE(k.levels(), 3) << k.describeHierarchy();
+        const Eigen::MatrixXd A = k.matrix(1).dense();
+        std::mt19937 rng(17);
+        std::normal_distribution<Scalar> normal;
+        Eigen::VectorXd b(A.rows());
+        for (Index q = 0; q < b.size(); ++q) b[q] = A.row(q).isZero() ? 0.0 : normal(rng);  // empty rows: no unknown
+        const Eigen::VectorXd x = k.coarseSolve(1, b);
+        const Eigen::VectorXd c1 = v.coarseSolve(1, b);
+        const Eigen::VectorXd c2 = v.coarseSolve(1, b - (c1.dot(b) / c1.dot(A * c1)) * A * c1);
+        Eigen::Matrix2d G;
+        G << c1.dot(A * c1), c1.dot(A * c2), c2.dot(A * c1), c2.dot(A * c2);
+        const Eigen::Vector2d y = G.ldlt().solve(Eigen::Vector2d(c1.dot(b), c2.dot(b)));
+        const Eigen::VectorXd best = y[0] * c1 + y[1] * c2;
+        EXPECT_LT((x - best).norm() / best.norm(), 1e-9) << s.nx << "x" << s.ny << (s.mesh ? " mesh" : " grid");
+        // ... and it leaves a smaller residual than the one cycle of a V-cycle level.
+        EXPECT_LT((b - A * x).norm(), (b - A * c1).norm()) << s.nx << "x" << s.ny;
+    }
+}
+
 TEST(Multigrid, ToTenToTheMinusTenEqualsTheCholeskySolve) {
     // 65x11: the Galerkin product by stencil from level 0 (rows of 33 coarse points).
     for (const Size s : {Size{33, 21, false}, Size{33, 21, true}, Size{65, 11, false}}) {
@@ -214,7 +246,8 @@ TEST(Multigrid, ToTenToTheMinusTenEqualsTheCholeskySolve) {
         Environment env;
         env.drag = 0.2;
         const Points chol = stepDv("exact", c, env);
-        for (const char* spec : {"exact:method=multigrid", "multigrid:tolerance=1e-10,max_cycles=200"}) {
+        for (const char* spec : {"exact:method=multigrid", "multigrid:tolerance=1e-10,max_cycles=200",
+                                 "multigrid:tolerance=1e-10,max_cycles=200,kcycle=2"}) {
             const Points mg = stepDv(spec, c, env);
             EXPECT_LT((mg - chol).norm() / chol.norm(), 1e-8) << spec << (mesh ? " mesh" : " grid");
         }
@@ -334,21 +367,23 @@ TEST(Multigrid, ReusedCoarseOperatorsStillReachTheToleranceAndAreRebuiltWhenTheP
 
 TEST(Multigrid, OneAndTwoThreadsAreBitIdentical) {
     for (const Size s : {Size{37, 29, false}, Size{37, 29, true}, Size{65, 11, false}})
-        for (const char* precision : {"double", "float"}) {
-            const bool mesh = s.mesh;
-            const Case c = stiffCase(s.nx, s.ny, mesh, 2);
-            std::vector<State> finals;
-            for (const int threads : {1, 2}) {
-                auto solver = solverFor(std::string("multigrid:precision=") + precision +
-                                        ",threads=" + std::to_string(threads));
-                State state = c.state;
-                for (int k = 0; k < 5; ++k) ASSERT_EQ(solver->step(c.model, {}, state, inputOf(c)).status, StepStatus::Ok);
-                finals.push_back(state);
+        for (const char* cycle : {"", "kcycle=1,"})
+            for (const char* precision : {"double", "float"}) {
+                const bool mesh = s.mesh;
+                const Case c = stiffCase(s.nx, s.ny, mesh, 2);
+                std::vector<State> finals;
+                for (const int threads : {1, 2}) {
+                    auto solver = solverFor(std::string("multigrid:") + cycle + "precision=" + precision +
+                                            ",threads=" + std::to_string(threads));
+                    State state = c.state;
+                    for (int k = 0; k < 5; ++k)
+                        ASSERT_EQ(solver->step(c.model, {}, state, inputOf(c)).status, StepStatus::Ok);
+                    finals.push_back(state);
+                }
+                const auto bytes = sizeof(Scalar) * std::size_t(finals[0].x.size());
+                EXPECT_EQ(std::memcmp(finals[0].x.data(), finals[1].x.data(), bytes), 0) << cycle << precision << mesh << s.nx;
+                EXPECT_EQ(std::memcmp(finals[0].v.data(), finals[1].v.data(), bytes), 0) << cycle << precision << mesh << s.nx;
             }
-            const auto bytes = sizeof(Scalar) * std::size_t(finals[0].x.size());
-            EXPECT_EQ(std::memcmp(finals[0].x.data(), finals[1].x.data(), bytes), 0) << precision << mesh << s.nx;
-            EXPECT_EQ(std::memcmp(finals[0].v.data(), finals[1].v.data(), bytes), 0) << precision << mesh << s.nx;
-        }
 }
 
 TEST(Multigrid, FloatPrecisionFollowsTheDoubleSolve) {
@@ -465,7 +500,7 @@ TEST(SolverConfig, DescribeParsesBackToTheSameConfig) {
                              "exact", "exact:method=multigrid", "cg:tolerance=1e-6", "multigrid",
                              "multigrid:cycles=2,damping=0.5,coarsening=aggregation,coarse=rediscretize,krylov=none",
                              "multigrid:precision=float,threads=2,strain_limit=0.1", "multigrid:start=zero,bend=keep",
-                             "multigrid:cycles=1,start=previous", "chebyshev:iterations=4", "explicit:substeps=3",
+                             "multigrid:cycles=1,start=previous", "multigrid:kcycle=2", "chebyshev:iterations=4", "explicit:substeps=3",
                              "desbrun"}) {
         SolverConfig a, b;
         std::string error;

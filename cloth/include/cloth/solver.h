@@ -72,6 +72,11 @@ struct MultigridSettings {
     // than as a stationary iteration. The V-cycle is symmetric (the same damped Jacobi before and
     // after), so CG applies.
     bool conjugateGradients = true;
+    // Levels 1..kcycleLevels (not the coarsest) are solved, wherever a finer level calls them, by
+    // two iterations of flexible CG each preconditioned by one cycle from that level (Notay and
+    // Vassilevski's K-cycle), instead of one cycle. 0: a V-cycle. The preconditioner is then
+    // nonlinear, and the outer CG uses the flexible (Polak-Ribiere) beta.
+    int kcycleLevels = 0;
     // Where each solve starts: from the previous step's dv (on the rows free now; one product
     // with W more per step, and from zero when that residual is not smaller than |b|), or from
     // zero. Auto: the previous dv when adaptive (the cycles to the tolerance drop), zero for a
