@@ -1561,7 +1561,7 @@ void Multigrid<T>::Impl::cycle(int l, bool residualKnown) {
 template <class T>
 void Multigrid<T>::Impl::coarseSolve(int l) {
     Level& C = levels[l];
-    if (l > settings.kcycleLevels || l + 1 == int(levels.size())) return cycle(l, true);
+    if (l > settings.kLevels() || l + 1 == int(levels.size())) return cycle(l, true);
     C.kb = C.b;
     cycle(l, true);
     C.kc = C.x;
@@ -1671,7 +1671,7 @@ void Multigrid<T>::Impl::conjugateGradients(double bNorm, MultigridStats& stats)
         else {
             // A K-cycle is not a fixed linear operator: the flexible beta z.(r - r_last) / rz,
             // with r - r_last = -alpha W p_last (in cgQ), keeps the directions conjugate.
-            const T beta = T(s.kcycleLevels > 0 ? -alpha * dot(cgZ, cgQ) / rz : rzNext / rz);
+            const T beta = T(s.kLevels() > 0 ? -alpha * dot(cgZ, cgQ) / rz : rzNext / rz);
             for (std::size_t q = 0; q < cgP.size(); ++q) cgP[q] = cgZ[q] + beta * cgP[q];
         }
         rz = rzNext;

@@ -57,10 +57,10 @@ const std::vector<SolverKind>& solverKinds() {
          makeExactSolver},
         {"cg", "exact with method=cg: conjugate gradients, diagonal preconditioner", cgDefaults, exactKeys(false), {},
          makeExactSolver},
-        {"multigrid", "V-cycles on the same system (damped Jacobi smoother, Galerkin coarse levels), as CG's preconditioner",
+        {"multigrid", "multigrid cycles on the same system (damped Jacobi smoother, Galerkin coarse levels), as CG's preconditioner",
          defaultsTo<M>,
          with(std::vector<SolverKey>{
-                  shown(integer<M>("cycles", &M::cycles, 0, 1000, "fixed V-cycles; 0 = adaptive (tolerance, max_cycles)")),
+                  shown(integer<M>("cycles", &M::cycles, 0, 1000, "fixed cycles; 0 = adaptive (tolerance, max_cycles)")),
                   real<M>("tolerance", &M::tolerance, 0, 1, true, true, "adaptive: relative residual to reach"),
                   integer<M>("max_cycles", &M::maxCycles, 1, 1000, "adaptive: at most this many cycles"),
                   integer<M>("pre_sweeps", &M::preSweeps, 0, 100, "smoothing sweeps before the coarse correction"),
@@ -82,10 +82,10 @@ const std::vector<SolverKind>& solverKinds() {
                                   "Galerkin on grids: coarse levels see each bend spring as two over its halves "
                                   "(9-point coarse stencil), or as it is"),
                   choice<M, bool>("krylov", &M::conjugateGradients, {{"cg", true}, {"none", false}},
-                                  "cg: V-cycles precondition CG; none: V-cycles alone"),
-                  integer<M>("kcycle", &M::kcycleLevels, 0, 100,
+                                  "cg: cycles precondition CG; none: cycles alone"),
+                  integer<M>("kcycle", &M::kcycleLevels, -1, 100,
                              "coarse levels 1..N solved by two flexible CG iterations preconditioned by a "
-                             "cycle (K-cycle); 0: V-cycle"),
+                             "cycle (K-cycle); 0: V-cycle; -1: 1 when adaptive, 0 for a fixed count"),
                   choice<M, M::Start>("start", &M::start,
                                       {{"auto", M::Start::Auto}, {"previous", M::Start::Previous}, {"zero", M::Start::Zero}},
                                       "each solve from the previous step's dv (where its residual is smaller) or "

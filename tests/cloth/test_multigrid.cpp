@@ -214,6 +214,7 @@ TEST(Multigrid, AKCycleLevelReturnsTheEnergyMinimizerOverItsTwoCycles) {
     for (const Size s : {Size{65, 65, false}, Size{40, 27, false}, Size{41, 33, true}}) {
         const Case c = stiffCase(s.nx, s.ny, s.mesh, 5);
         MultigridSettings vs, ks;
+        vs.kcycleLevels = 0;
         ks.kcycleLevels = 1;
         Multigrid<double> v(vs), k(ks);
         v.prepareSystem(c.model, {}, c.state, inputOf(c), true);
@@ -397,9 +398,14 @@ TEST(SolverConfig, MultigridParametersParseAndFloatCannotPromiseAnExactSolve) {
     SolverConfig c;
     std::string error;
     ASSERT_TRUE(parseSolverConfig("multigrid", c, &error)) << error;
-    EXPECT_EQ(c.get<MultigridSettings>().tolerance, 1e-3);
+    EXPECT_EQ(c.get<MultigridSettings>().tolerance, 1.5e-3);
     EXPECT_EQ(c.get<MultigridSettings>().maxCycles, 16);
     EXPECT_EQ(c.get<MultigridSettings>().cycles, 0);
+    EXPECT_EQ(c.get<MultigridSettings>().kLevels(), 1);  // auto: a K-cycle on level 1 when adaptive
+    ASSERT_TRUE(parseSolverConfig("multigrid:cycles=2", c, &error)) << error;
+    EXPECT_EQ(c.get<MultigridSettings>().kLevels(), 0);  // ... and a V-cycle for a fixed count
+    EXPECT_FALSE(parseSolverConfig("multigrid:kcycle=-2", c, &error));
+    EXPECT_NE(error.find("kcycle"), std::string::npos) << error;
     EXPECT_FALSE(parseSolverConfig("multigrid:precision=float,tolerance=1e-10", c, &error));
     EXPECT_NE(error.find("precision=float"), std::string::npos) << error;
     EXPECT_FALSE(parseSolverConfig("multigrid:pre_sweeps=0,post_sweeps=0", c, &error));

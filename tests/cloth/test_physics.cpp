@@ -784,8 +784,11 @@ TEST(GoldenHash, KangChoFloatThreads1) { expectGoldenHash("kangcho:precision=flo
 TEST(GoldenHash, KangChoFloatThreads2) { expectGoldenHash("kangcho:precision=float", 2); }
 TEST(GoldenHash, MultigridThreads1) { expectGoldenHash("multigrid", 1); }
 TEST(GoldenHash, MultigridThreads2) { expectGoldenHash("multigrid", 2); }
-TEST(GoldenHash, MultigridColdStartThreads1) { expectGoldenHash("multigrid:start=zero", 1); }
-TEST(GoldenHash, MultigridBendKeptThreads1) { expectGoldenHash("multigrid:bend=keep,start=zero", 1); }
+TEST(GoldenHash, MultigridVCycleThreads1) { expectGoldenHash("multigrid:kcycle=0,tolerance=0.001", 1); }
+TEST(GoldenHash, MultigridColdStartThreads1) { expectGoldenHash("multigrid:kcycle=0,tolerance=0.001,start=zero", 1); }
+TEST(GoldenHash, MultigridBendKeptThreads1) {
+    expectGoldenHash("multigrid:kcycle=0,tolerance=0.001,bend=keep,start=zero", 1);
+}
 
 TEST(PhysicsCollision, AParticleInTwoCollidersCountsOnceAndACapsuleMayBeGivenReversed) {
     // The count is of particles (collision.h), not of particle-collider hits: before, a particle

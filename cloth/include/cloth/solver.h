@@ -47,8 +47,8 @@ struct ExactSettings {
 };
 
 struct MultigridSettings {
-    int cycles = 0;            // fixed number of V-cycles; 0 = until the relative residual < tolerance
-    double tolerance = 1e-3;
+    int cycles = 0;            // fixed number of cycles; 0 = until the relative residual < tolerance
+    double tolerance = 1.5e-3;
     int maxCycles = 16;        // cap of the adaptive mode
     int preSweeps = 1, postSweeps = 1;  // smoothing sweeps around each coarse correction
     double damping = 0.7;      // smoother: x += damping W_ii^-1 r
@@ -75,8 +75,11 @@ struct MultigridSettings {
     // Levels 1..kcycleLevels (not the coarsest) are solved, wherever a finer level calls them, by
     // two iterations of flexible CG each preconditioned by one cycle from that level (Notay and
     // Vassilevski's K-cycle), instead of one cycle. 0: a V-cycle. The preconditioner is then
-    // nonlinear, and the outer CG uses the flexible (Polak-Ribiere) beta.
-    int kcycleLevels = 0;
+    // nonlinear, and the outer CG uses the flexible (Polak-Ribiere) beta. -1 (auto): 1 when
+    // adaptive (fewer, more accurate iterations for the same cost), 0 for a fixed count (whose
+    // cost each K-cycle raises by 5-15%).
+    int kcycleLevels = -1;
+    int kLevels() const { return kcycleLevels >= 0 ? kcycleLevels : cycles == 0 ? 1 : 0; }
     // Where each solve starts: from the previous step's dv (on the rows free now; one product
     // with W more per step, and from zero when that residual is not smaller than |b|), or from
     // zero. Auto: the previous dv when adaptive (the cycles to the tolerance drop), zero for a
