@@ -22,7 +22,7 @@ std::vector<SolverKey> exactKeys(bool withMethod) {
     own.push_back(shown(real<E>("tolerance", &E::tolerance, 0, 1, true, true,
                                 "relative residual the solve must reach, else the step fails")));
     own.push_back(integer<E>("max_iterations", &E::maxIterations, 1, 1000000,
-                             "cg: iterations; multigrid: V-cycles (at most 1000)"));
+                             "cg: iterations; multigrid: cycles (at most 1000)"));
     return with(std::move(own), true);
 }
 

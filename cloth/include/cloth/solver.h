@@ -77,7 +77,7 @@ struct MultigridSettings {
     // Vassilevski's K-cycle), instead of one cycle. 0: a V-cycle. The preconditioner is then
     // nonlinear, and the outer CG uses the flexible (Polak-Ribiere) beta. -1 (auto): 1 when
     // adaptive (fewer, more accurate iterations for the same cost), 0 for a fixed count (whose
-    // cost each K-cycle raises by 5-15%).
+    // cost each K-cycle raises by 5-15%, and one K-cycle alone was not reliable: docs/multigrid.md).
     int kcycleLevels = -1;
     int kLevels() const { return kcycleLevels >= 0 ? kcycleLevels : cycles == 0 ? 1 : 0; }
     // Where each solve starts: from the previous step's dv (on the rows free now; one product

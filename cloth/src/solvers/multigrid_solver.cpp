@@ -1,7 +1,7 @@
-// multigrid: V-cycles on the system of the paper's step (multigrid.h): the paper's Jacobi sweep,
+// multigrid: cycles on the system of the paper's step (multigrid.h): the paper's Jacobi sweep,
 // damped, as the smoother, Galerkin coarse operators, a direct solve on the coarsest level. By
-// default the V-cycle preconditions CG, until the relative residual is under the tolerance, with
-// a cap; or a fixed number of cycles. The count used is in the step's result.
+// default the cycle (a K-cycle on level 1) preconditions CG, until the relative residual is under
+// the tolerance, with a cap; or a fixed number of V-cycles. The count is in the step's result.
 
 #include <algorithm>
 #include <variant>
@@ -21,7 +21,7 @@ public:
     }
 
 private:
-    // exact:method=multigrid runs here too: CG with V-cycles to its tolerance, which it must reach.
+    // exact:method=multigrid runs here too: CG with cycles to its tolerance, which it must reach.
     bool strict() const { return std::holds_alternative<ExactSettings>(config_.settings); }
     MultigridSettings multigridSettings() const {
         if (!strict()) return settings<MultigridSettings>();
