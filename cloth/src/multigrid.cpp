@@ -685,7 +685,7 @@ struct Multigrid<T>::Impl {
     void coarseSolve(int l);
     double norm(const std::vector<T>& v);
     double dot(const std::vector<T>& a, const std::vector<T>& b);
-    void precondition(const std::vector<T>& r, std::vector<T>& z);  // z = V-cycle(r) from zero
+    void precondition(const std::vector<T>& r, std::vector<T>& z);  // z = one cycle on r, from zero
     void stationary(double bNorm, MultigridStats& stats);
     void conjugateGradients(double bNorm, MultigridStats& stats);
     double start(std::vector<T>& x, std::vector<T>& r, double bNorm);
@@ -1518,7 +1518,7 @@ void Multigrid<T>::Impl::smooth(int l, bool residualKnown) {
     });
 }
 
-// One V-cycle on level l for L.b from L.x (residualKnown: L.r already holds b - W x).
+// One cycle on level l for L.b from L.x (residualKnown: L.r already holds b - W x).
 template <class T>
 void Multigrid<T>::Impl::cycle(int l, bool residualKnown) {
     Level& L = levels[l];
@@ -1636,7 +1636,7 @@ double Multigrid<T>::Impl::start(std::vector<T>& x, std::vector<T>& r, double bN
     return 1;
 }
 
-// V-cycles as a stationary iteration on W x = b (L.b), from start().
+// Cycles as a stationary iteration on W x = b (L.b), from start().
 template <class T>
 void Multigrid<T>::Impl::stationary(double bNorm, MultigridStats& stats) {
     Level& L = levels[0];
@@ -1655,7 +1655,7 @@ void Multigrid<T>::Impl::stationary(double bNorm, MultigridStats& stats) {
     cgX = L.x;
 }
 
-// Conjugate gradients preconditioned by one V-cycle per iteration, from start(); the result in cgX.
+// Conjugate gradients preconditioned by one cycle per iteration, from start(); the result in cgX.
 template <class T>
 void Multigrid<T>::Impl::conjugateGradients(double bNorm, MultigridStats& stats) {
     const MultigridSettings& s = settings;

@@ -5,6 +5,8 @@
 //   level l: nu1 damped block-Jacobi sweeps (the paper's eq. 11 sweep, damped by omega),
 //            r = b - W x, b_c = P^T r, coarse solve (recursively), x += P x_c, nu2 sweeps;
 //   coarsest: a dense Cholesky solve.
+// A K-cycle level (MultigridSettings::kcycleLevels; by default level 1 when adaptive) makes its
+// coarse solve two flexible CG iterations, each preconditioned by one cycle from there.
 // Coarse operators are Galerkin, W_c = P^T W P, rebuilt every step: on a grid whose sides are both
 // odd (17x17, 33x33, ...: the coarse grid keeps every other point) and whose coarse rows are long
 // enough (MultigridSettings::stencilGalerkinMinRow), one dimension at a time, each a fixed list
@@ -40,7 +42,7 @@ namespace cloth {
 // MultigridSettings: cloth/solver.h.
 
 struct MultigridStats {
-    int cycles = 0;  // V-cycles applied (with conjugate gradients: CG iterations)
+    int cycles = 0;  // cycles applied (with conjugate gradients: CG iterations, one cycle each)
     double residual = -1;  // relative residual |b - W dv| / |b| over free particles (-1: not computed)
 };
 
@@ -123,7 +125,7 @@ public:
     int levels() const;
     const BlockMatrix<T>& matrix(int level) const;
     Eigen::MatrixXd prolongation(int level) const;  // dense P from level + 1 to level
-    // One V-cycle from x = 0 for the right-hand side b (3n, particle-major); returns x.
+    // One cycle from x = 0 for the right-hand side b (3n, particle-major); returns x.
     Eigen::VectorXd vcycle(const Eigen::VectorXd& b);
     // What coarse level `level` hands back to the finer one for its right-hand side b (3 n_level,
     // in the level's point order): one cycle from there, or on a K-cycle level
