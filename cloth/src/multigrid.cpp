@@ -1555,13 +1555,14 @@ void Multigrid<T>::Impl::cycle(int l, bool residualKnown) {
     for (int s = 0; s < settings.postSweeps; ++s) smooth(l, false);
 }
 
-// Level l's x from its b (with r = b, x = 0): one cycle, or on a K-cycle level two iterations of
-// flexible CG, each preconditioned by one cycle: c1 = B b, then c2 = B (b - t1 W c1), and x the
-// combination of c1 and c2 that minimizes the W-norm of the error over their span.
+// Level l's x from its b (with r = b, x = 0): one cycle, or on a K-cycle level (1..kLevels(), not
+// the coarsest) two iterations of flexible CG, each preconditioned by one cycle: c1 = B b, then
+// c2 = B (b - t1 W c1), and x the combination of c1 and c2 that minimizes the W-norm of the error
+// over their span. Level 0 is always one cycle (the outer CG is its Krylov method).
 template <class T>
 void Multigrid<T>::Impl::coarseSolve(int l) {
     Level& C = levels[l];
-    if (l > settings.kLevels() || l + 1 == int(levels.size())) return cycle(l, true);
+    if (l == 0 || l > settings.kLevels() || l + 1 == int(levels.size())) return cycle(l, true);
     C.kb = C.b;
     cycle(l, true);
     C.kc = C.x;
@@ -1762,8 +1763,7 @@ Eigen::VectorXd Multigrid<T>::coarseSolve(int level, const Eigen::VectorXd& b) {
     typename Impl::Level& L = m.levels[level];
     for (int q = 0; q < 3 * L.A.n; ++q) L.b[q] = T(b[q]) * L.active[q / 3], L.x[q] = T(0);
     L.r = L.b;
-    if (level == 0) m.cycle(0, true);
-    else m.coarseSolve(level);
+    m.coarseSolve(level);
     Eigen::VectorXd x(3 * L.A.n);
     for (int q = 0; q < 3 * L.A.n; ++q) x[q] = double(L.x[q]);
     return x;
