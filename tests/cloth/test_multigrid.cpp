@@ -234,7 +234,8 @@ TEST(Multigrid, AKCycleLevelReturnsTheEnergyMinimizerOverItsTwoCycles) {
         const Eigen::Vector2d y = G.ldlt().solve(Eigen::Vector2d(c1.dot(b), c2.dot(b)));
         const Eigen::VectorXd best = y[0] * c1 + y[1] * c2;
         EXPECT_LT((x - best).norm() / best.norm(), 1e-9) << s.nx << "x" << s.ny << (s.mesh ? " mesh" : " grid");
-        // ... and it leaves a smaller residual than the one cycle of a V-cycle level.
+        // ... and it leaves a smaller residual than the one cycle of a V-cycle level (the projection
+        // minimizes the energy norm of the error, not the residual, so this is measured, not implied).
         EXPECT_LT((b - A * x).norm(), (b - A * c1).norm()) << s.nx << "x" << s.ny;
     }
 }
