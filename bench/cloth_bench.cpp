@@ -167,6 +167,9 @@ BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_double, "multigrid:cycles=1"
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_float, "multigrid:cycles=1,precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_double, "multigrid", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_float, "multigrid:precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+// Mixed precision: the cycles in float under the double CG (cycle_precision=float).
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_mixed, "multigrid:cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_mixed, "multigrid:cycles=1,cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // The adaptive default before session 15 (V-cycles to 1e-3), and one K-cycle (the adaptive default
 // runs K-cycles; a fixed count V-cycles): docs/multigrid.md, session 15.
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_double, "multigrid:kcycle=0,tolerance=1e-3", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <mutex>
 #include <sstream>
+#include <type_traits>
 
 #include "kernels.h"
 #include "simd.h"
@@ -602,7 +603,8 @@ Model coarserCloth(const Model& fine, int cx, int cy) {
 template <class T>
 struct Multigrid<T>::Impl {
     MultigridSettings settings;
-    ThreadPool pool;
+    std::shared_ptr<ThreadPool> pools;
+    ThreadPool& pool;
     std::uint64_t modelId = 0;
     std::string coarseningName;
 
@@ -652,11 +654,20 @@ struct Multigrid<T>::Impl {
     std::vector<T> pinDv;  // level 0
     std::vector<double> partial;
 
-    explicit Impl(const MultigridSettings& s) : settings(s), pool(s.threads) {}
+    // MultigridSettings::floatCycles (T = double): the same system in float, whose cycles
+    // precondition this level's CG. It shares the pool.
+    std::unique_ptr<typename Multigrid<float>::Impl> lower;
+
+    Impl(const MultigridSettings& s, std::shared_ptr<ThreadPool> shared = nullptr)
+        : settings(s), pools(shared ? std::move(shared) : std::make_shared<ThreadPool>(s.threads)), pool(*pools) {
+        if constexpr (std::is_same_v<T, double>)
+            if (s.floatCycles) lower = std::make_unique<typename Multigrid<float>::Impl>(s, pools);
+    }
 
     void prepare(const Model& model);
+    // Level 0's W and, with withRhs, its b and the pinned particles' dv.
     void buildFine(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                   bool compressionRule);
+                   bool compressionRule, bool withRhs = true);
     void useSprings(Level& L, const Model& cloth);
     template <class RowTerms>
     void buildCloth(int l, const double* xs, const double* vs, T h, T h2, bool compressionRule, const RowTerms& rowTerms);
@@ -1214,7 +1225,7 @@ void Multigrid<T>::Impl::assembleCloth(int l, T h2, bool withRhs, const RowTerms
 // b_i = h f_i + h^2 sum_j J_ij (v_j - v_i) (eq. 7) with pinned neighbours' prescribed dv in it.
 template <class T>
 void Multigrid<T>::Impl::buildFine(const Model& model, const Environment& env, const State& state,
-                                   const StepInput& input, bool compressionRule) {
+                                   const StepInput& input, bool compressionRule, bool withRhs) {
     const int n = model.particleCount();
     const T h = T(input.h), h2 = h * h, c = T(env.drag);
     const T g[3] = {T(env.gravity.x()), T(env.gravity.y()), T(env.gravity.z())};
@@ -1242,7 +1253,7 @@ void Multigrid<T>::Impl::buildFine(const Model& model, const Environment& env, c
             B[3] += h * T(C(1, 1)), B[4] += h * T(C(1, 2)), B[5] += h * T(C(2, 2));
         }
     }
-    buildCloth(0, xs, vs, h, h2, compressionRule, [&](int i, T* r) {  // + h (m (g - c v) + external)
+    buildCloth(0, xs, withRhs ? vs : nullptr, h, h2, compressionRule, [&](int i, T* r) {  // + h (m (g - c v) + external)
         const T m = T(mass[i]);
         for (int a = 0; a < 3; ++a)
             r[a] += h * (m * (g[a] - c * T(vs[3 * i + a])) + (ext ? T(ext[3 * i + a]) : T(0)));
@@ -1611,6 +1622,19 @@ double Multigrid<T>::Impl::norm(const std::vector<T>& v) {
 
 template <class T>
 void Multigrid<T>::Impl::precondition(const std::vector<T>& r, std::vector<T>& z) {
+    if (lower) {  // one float cycle on r rounded to float
+        auto& F = lower->levels[0];
+        z.resize(r.size());
+        pool.run(F.A.n, [&](int begin, int end) {
+            for (std::size_t q = 3 * std::size_t(begin); q < 3 * std::size_t(end); ++q)
+                F.b[q] = F.r[q] = float(r[q]), F.x[q] = 0.0f;
+        });
+        lower->cycle(0, true);
+        pool.run(F.A.n, [&](int begin, int end) {
+            for (std::size_t q = 3 * std::size_t(begin); q < 3 * std::size_t(end); ++q) z[q] = T(F.x[q]);
+        });
+        return;
+    }
     Level& L = levels[0];
     L.b = r;
     L.r = r;
@@ -1670,9 +1694,11 @@ void Multigrid<T>::Impl::conjugateGradients(double bNorm, MultigridStats& stats)
         const double rzNext = dot(cgR, cgZ);
         if (stats.cycles == 1) cgP = cgZ;
         else {
-            // A K-cycle is not a fixed linear operator: the flexible beta z.(r - r_last) / rz,
-            // with r - r_last = -alpha W p_last (in cgQ), keeps the directions conjugate.
-            const T beta = T(s.kLevels() > 0 ? -alpha * dot(cgZ, cgQ) / rz : rzNext / rz);
+            // A K-cycle is not a fixed linear operator, nor quite is a cycle in float (it rounds):
+            // the flexible beta z.(r - r_last) / rz, with r - r_last = -alpha W p_last (in cgQ),
+            // keeps the directions conjugate.
+            const bool flexible = s.kLevels() > 0 || lower;
+            const T beta = T(flexible ? -alpha * dot(cgZ, cgQ) / rz : rzNext / rz);
             for (std::size_t q = 0; q < cgP.size(); ++q) cgP[q] = cgZ[q] + beta * cgP[q];
         }
         rz = rzNext;
@@ -1697,8 +1723,12 @@ template <class T>
 void Multigrid<T>::prepareSystem(const Model& model, const Environment& env, const State& state, const StepInput& input,
                                  bool compressionRule) {
     Impl& m = *impl_;
-    if (m.modelId != model.id()) m.prepare(model);
-    m.buildFine(model, env, state, input, compressionRule);
+    auto build = [&](auto& h, bool withRhs) {
+        if (h.modelId != model.id()) h.prepare(model);
+        h.buildFine(model, env, state, input, compressionRule, withRhs);
+    };
+    build(m, true);
+    if (m.lower) build(*m.lower, false);  // its b is CG's residual
 }
 
 template <class T>
@@ -1708,7 +1738,8 @@ bool Multigrid<T>::solve(const Model& model, const Environment& env, const State
     prepareSystem(model, env, state, input, compressionRule);
     if (forcesMs) *forcesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     Impl& m = *impl_;
-    m.refreshCoarse(m.lastH2, m.lastCompression);
+    if (m.lower) m.lower->refreshCoarse(m.lower->lastH2, m.lower->lastCompression);  // the cycles' levels
+    else m.refreshCoarse(m.lastH2, m.lastCompression);
 
     typename Impl::Level& L = m.levels[0];
     const int n = L.A.n;
@@ -1771,7 +1802,7 @@ Eigen::VectorXd Multigrid<T>::coarseSolve(int level, const Eigen::VectorXd& b) {
 
 template <class T>
 std::string Multigrid<T>::describeHierarchy() const {
-    return impl_->coarseningName;
+    return impl_->coarseningName + (impl_->lower ? ", cycles in float" : "");
 }
 
 template struct BlockMatrix<float>;

@@ -249,7 +249,9 @@ TEST(Multigrid, ToTenToTheMinusTenEqualsTheCholeskySolve) {
         env.drag = 0.2;
         const Points chol = stepDv("exact", c, env);
         for (const char* spec : {"exact:method=multigrid", "multigrid:tolerance=1e-10,max_cycles=200",
-                                 "multigrid:tolerance=1e-10,max_cycles=200,kcycle=2"}) {
+                                 "multigrid:tolerance=1e-10,max_cycles=200,kcycle=2",
+                                 "multigrid:tolerance=1e-10,max_cycles=200,cycle_precision=float",
+                                 "multigrid:tolerance=1e-10,max_cycles=200,kcycle=0,cycle_precision=float"}) {
             const Points mg = stepDv(spec, c, env);
             EXPECT_LT((mg - chol).norm() / chol.norm(), 1e-8) << spec << (mesh ? " mesh" : " grid");
         }
@@ -370,7 +372,7 @@ TEST(Multigrid, ReusedCoarseOperatorsStillReachTheToleranceAndAreRebuiltWhenTheP
 TEST(Multigrid, OneAndTwoThreadsAreBitIdentical) {
     for (const Size s : {Size{37, 29, false}, Size{37, 29, true}, Size{65, 11, false}})
         for (const char* cycle : {"", "kcycle=1,"})
-            for (const char* precision : {"double", "float"}) {
+            for (const char* precision : {"double", "float", "double,cycle_precision=float"}) {
                 const bool mesh = s.mesh;
                 const Case c = stiffCase(s.nx, s.ny, mesh, 2);
                 std::vector<State> finals;
@@ -393,6 +395,10 @@ TEST(Multigrid, FloatPrecisionFollowsTheDoubleSolve) {
     const Points d = stepDv("multigrid:cycles=3", c);
     const Points f = stepDv("multigrid:cycles=3,precision=float", c);
     EXPECT_LT((d - f).norm() / d.norm(), 1e-4);
+    // Cycles in float under the double CG: the same to the float cycles' rounding.
+    const Points m = stepDv("multigrid:cycles=3,cycle_precision=float", c);
+    EXPECT_LT((d - m).norm() / d.norm(), 1e-4);
+    EXPECT_GT((d - m).norm(), 0.0);  // the float hierarchy did run
 }
 
 TEST(SolverConfig, MultigridParametersParseAndFloatCannotPromiseAnExactSolve) {
@@ -409,6 +415,10 @@ TEST(SolverConfig, MultigridParametersParseAndFloatCannotPromiseAnExactSolve) {
     EXPECT_NE(error.find("kcycle"), std::string::npos) << error;
     EXPECT_FALSE(parseSolverConfig("multigrid:precision=float,tolerance=1e-10", c, &error));
     EXPECT_NE(error.find("precision=float"), std::string::npos) << error;
+    for (const char* spec : {"multigrid:precision=float,cycle_precision=float", "multigrid:krylov=none,cycle_precision=float"}) {
+        EXPECT_FALSE(parseSolverConfig(spec, c, &error)) << spec;
+        EXPECT_NE(error.find("cycle_precision"), std::string::npos) << error;
+    }
     EXPECT_FALSE(parseSolverConfig("multigrid:pre_sweeps=0,post_sweeps=0", c, &error));
     EXPECT_FALSE(parseSolverConfig("multigrid:damping=0", c, &error));
     EXPECT_FALSE(parseSolverConfig("multigrid:coarsening=magic", c, &error));
@@ -507,7 +517,7 @@ TEST(SolverConfig, DescribeParsesBackToTheSameConfig) {
                              "exact", "exact:method=multigrid", "cg:tolerance=1e-6", "multigrid",
                              "multigrid:cycles=2,damping=0.5,coarsening=aggregation,coarse=rediscretize,krylov=none",
                              "multigrid:precision=float,threads=2,strain_limit=0.1", "multigrid:start=zero,bend=keep",
-                             "multigrid:cycles=1,start=previous", "multigrid:kcycle=2", "chebyshev:iterations=4", "explicit:substeps=3",
+                             "multigrid:cycles=1,start=previous", "multigrid:kcycle=2", "multigrid:cycle_precision=float", "chebyshev:iterations=4", "explicit:substeps=3",
                              "desbrun"}) {
         SolverConfig a, b;
         std::string error;

@@ -88,6 +88,12 @@ struct MultigridSettings {
     Start start = Start::Auto;
     int threads = 1;
     bool singlePrecision = false;
+    // Mixed precision (with singlePrecision false and conjugate gradients): the cycles, the
+    // preconditioner, run on the same system built in float, while CG, its products with W and
+    // the residual it tests stay double. A float cycle does the work of a double one in about
+    // half the memory traffic; CG corrects the preconditioner's rounding, so the solve still
+    // reaches double tolerances.
+    bool floatCycles = false;
     int coarsestParticles = 16;  // coarsen until a level has at most this many (not a key)
     // The Galerkin product by stencil (nested grids, multigrid.h) from this many coarse points per
     // row; shorter rows use the plan, which was faster there with the bend springs kept (at 33x33:
