@@ -665,9 +665,11 @@ struct Multigrid<T>::Impl {
     }
 
     void prepare(const Model& model);
-    // Level 0's W and, with withRhs, its b and the pinned particles' dv.
     void buildFine(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                   bool compressionRule, bool withRhs = true);
+                   bool compressionRule);
+    // floatCycles (T = float): level 0 as `fine`'s level 0 (the same model's double system),
+    // rounded; b stays with fine's CG.
+    void roundFine(const typename Multigrid<double>::Impl& fine);
     void useSprings(Level& L, const Model& cloth);
     template <class RowTerms>
     void buildCloth(int l, const double* xs, const double* vs, T h, T h2, bool compressionRule, const RowTerms& rowTerms);
@@ -1225,7 +1227,7 @@ void Multigrid<T>::Impl::assembleCloth(int l, T h2, bool withRhs, const RowTerms
 // b_i = h f_i + h^2 sum_j J_ij (v_j - v_i) (eq. 7) with pinned neighbours' prescribed dv in it.
 template <class T>
 void Multigrid<T>::Impl::buildFine(const Model& model, const Environment& env, const State& state,
-                                   const StepInput& input, bool compressionRule, bool withRhs) {
+                                   const StepInput& input, bool compressionRule) {
     const int n = model.particleCount();
     const T h = T(input.h), h2 = h * h, c = T(env.drag);
     const T g[3] = {T(env.gravity.x()), T(env.gravity.y()), T(env.gravity.z())};
@@ -1253,7 +1255,7 @@ void Multigrid<T>::Impl::buildFine(const Model& model, const Environment& env, c
             B[3] += h * T(C(1, 1)), B[4] += h * T(C(1, 2)), B[5] += h * T(C(2, 2));
         }
     }
-    buildCloth(0, xs, withRhs ? vs : nullptr, h, h2, compressionRule, [&](int i, T* r) {  // + h (m (g - c v) + external)
+    buildCloth(0, xs, vs, h, h2, compressionRule, [&](int i, T* r) {  // + h (m (g - c v) + external)
         const T m = T(mass[i]);
         for (int a = 0; a < 3; ++a)
             r[a] += h * (m * (g[a] - c * T(vs[3 * i + a])) + (ext ? T(ext[3 * i + a]) : T(0)));
@@ -1261,6 +1263,47 @@ void Multigrid<T>::Impl::buildFine(const Model& model, const Environment& env, c
     lastH2 = h2;
     lastCompression = compressionRule;
     if (levels.size() > 1 && levels[1].cloth) L.pos.assign(xs, xs + 3 * std::size_t(n));
+}
+
+// What the cycles read of level 0, and the coarse levels are built from: W (bands, or blocks; the
+// block copy where kept), its inverse diagonal blocks, the free rows, the pinned particles, and
+// for re-discretized coarse levels the diagonal base and the positions. Both hierarchies were
+// prepared for the same model with the same settings, so their patterns and layouts agree; only
+// the band stride (padded per type) differs.
+template <class T>
+void Multigrid<T>::Impl::roundFine(const typename Multigrid<double>::Impl& fine) {
+    const auto& F = fine.levels[0];
+    Level& L = levels[0];
+    const int n = L.A.n;
+    auto round = [&](const std::vector<double>& from, std::vector<T>& to) {  // arrays of blocks, 6 numbers each
+        to.resize(from.size());
+        pool.run(int(from.size() / 6), [&](int begin, int end) {
+            for (std::size_t q = 6 * std::size_t(begin); q < 6 * std::size_t(end); ++q) to[q] = T(from[q]);
+        });
+    };
+    if (L.A.banded()) {
+        const std::size_t arrays = 6 * (L.A.offsets.size() + 1);
+        pool.run(n, [&](int begin, int end) {
+            for (std::size_t a = 0; a < arrays; ++a) {
+                const double* src = F.A.values.data() + a * F.A.stride + F.A.pad;
+                T* dst = L.A.values.data() + a * L.A.stride + L.A.pad;
+                for (int i = begin; i < end; ++i) dst[i] = T(src[i]);
+            }
+            for (int i = begin; i < end; ++i) L.band.freeRow[L.band.pad + i] = T(F.band.freeRow[F.band.pad + i]);
+        });
+    } else {
+        round(F.A.values, L.A.values);
+    }
+    if (!L.A.blocks.empty()) round(F.A.blocks, L.A.blocks);
+    round(F.dinv, L.dinv);
+    round(F.base, L.base);
+    pool.run(n, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) L.active[i] = T(F.active[i]);
+    });
+    L.pinned = F.pinned;
+    L.pos = F.pos;
+    lastH2 = T(fine.lastH2);
+    lastCompression = fine.lastCompression;
 }
 
 // Level l + 1 re-discretized: positions sampled from level l, the coarse cloth's springs there,
@@ -1723,12 +1766,13 @@ template <class T>
 void Multigrid<T>::prepareSystem(const Model& model, const Environment& env, const State& state, const StepInput& input,
                                  bool compressionRule) {
     Impl& m = *impl_;
-    auto build = [&](auto& h, bool withRhs) {
-        if (h.modelId != model.id()) h.prepare(model);
-        h.buildFine(model, env, state, input, compressionRule, withRhs);
-    };
-    build(m, true);
-    if (m.lower) build(*m.lower, false);  // its b is CG's residual
+    if (m.modelId != model.id()) m.prepare(model);
+    m.buildFine(model, env, state, input, compressionRule);
+    if constexpr (std::is_same_v<T, double>) {
+        if (!m.lower) return;
+        if (m.lower->modelId != model.id()) m.lower->prepare(model);
+        m.lower->roundFine(m);
+    }
 }
 
 template <class T>
