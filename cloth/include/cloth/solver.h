@@ -89,10 +89,11 @@ struct MultigridSettings {
     int threads = 1;
     bool singlePrecision = false;
     // Mixed precision (with singlePrecision false and conjugate gradients): the cycles, the
-    // preconditioner, run on the same system built in float, while CG, its products with W and
-    // the residual it tests stay double. A float cycle does the work of a double one in about
-    // half the memory traffic; CG corrects the preconditioner's rounding, so the solve still
-    // reaches double tolerances.
+    // preconditioner, run on the same system rounded to float, while CG, its products with W and
+    // the residual it tests stay double. A float cycle moves half the bytes of a double one; CG
+    // corrects the preconditioner's rounding, so the solve still reaches double tolerances. Not
+    // the default: on the vehicle path at 129x129 its peak stretch was 1.9x the exact solve's
+    // (docs/multigrid.md, session 16).
     bool floatCycles = false;
     int coarsestParticles = 16;  // coarsen until a level has at most this many (not a key)
     // The Galerkin product by stencil (nested grids, multigrid.h) from this many coarse points per
