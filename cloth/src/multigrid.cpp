@@ -1665,25 +1665,21 @@ double Multigrid<T>::Impl::norm(const std::vector<T>& v) {
 
 template <class T>
 void Multigrid<T>::Impl::precondition(const std::vector<T>& r, std::vector<T>& z) {
-    if (lower) {  // one float cycle on r rounded to float
-        auto& F = lower->levels[0];
+    auto cycleOn = [&](auto& h) {  // this hierarchy, or its float copy (r rounded to float)
+        auto& L = h.levels[0];
+        using U = typename std::decay_t<decltype(L.x)>::value_type;
         z.resize(r.size());
-        pool.run(F.A.n, [&](int begin, int end) {
+        pool.run(L.A.n, [&](int begin, int end) {
             for (std::size_t q = 3 * std::size_t(begin); q < 3 * std::size_t(end); ++q)
-                F.b[q] = F.r[q] = float(r[q]), F.x[q] = 0.0f;
+                L.b[q] = L.r[q] = U(r[q]), L.x[q] = U(0);
         });
-        lower->cycle(0, true);
-        pool.run(F.A.n, [&](int begin, int end) {
-            for (std::size_t q = 3 * std::size_t(begin); q < 3 * std::size_t(end); ++q) z[q] = T(F.x[q]);
+        h.cycle(0, true);
+        pool.run(L.A.n, [&](int begin, int end) {
+            for (std::size_t q = 3 * std::size_t(begin); q < 3 * std::size_t(end); ++q) z[q] = T(L.x[q]);
         });
-        return;
-    }
-    Level& L = levels[0];
-    L.b = r;
-    L.r = r;
-    std::fill(L.x.begin(), L.x.end(), T(0));
-    cycle(0, true);
-    z = L.x;
+    };
+    if (lower) cycleOn(*lower);
+    else cycleOn(*this);
 }
 
 // The iteration's start x and its residual r = b - W x (b: level 0's); returns |r| / |b|. From
