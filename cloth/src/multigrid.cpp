@@ -697,6 +697,7 @@ struct Multigrid<T>::Impl {
     void cycle(int l, bool residualKnown);
     void coarseSolve(int l);
     double norm(const std::vector<T>& v);
+    bool converged(double rel, const std::vector<T>& r, const std::vector<T>& x);
     double dot(const std::vector<T>& a, const std::vector<T>& b);
     void precondition(const std::vector<T>& r, std::vector<T>& z);  // z = one cycle on r, from zero
     void stationary(double bNorm, MultigridStats& stats);
@@ -1663,6 +1664,37 @@ double Multigrid<T>::Impl::norm(const std::vector<T>& v) {
     return std::sqrt(dot(v, v));
 }
 
+// The adaptive stop: |r| / |b| (rel) at most the tolerance and, with a local tolerance, no
+// particle's Jacobi correction |W_ii^-1 r_i| above it times the largest |x_i|. The maxima do not
+// depend on the order of the chunks, so any thread count gives the same answer.
+template <class T>
+bool Multigrid<T>::Impl::converged(double rel, const std::vector<T>& r, const std::vector<T>& x) {
+    if (rel > settings.tolerance) return false;
+    if (settings.localTolerance <= 0) return true;
+    const Level& L = levels[0];
+    const int n = L.A.n;
+    partial.assign(2 * std::size_t(chunks(n)), 0.0);
+    pool.run(chunks(n), [&](int begin, int end) {
+        for (int ch = begin; ch < end; ++ch) {
+            double correction = 0, dv = 0;
+            for (int i = ch * kChunk; i < std::min(n, (ch + 1) * kChunk); ++i) {
+                T d[3];
+                symmetricTimes(&L.dinv[6 * std::size_t(i)], &r[3 * std::size_t(i)], d);
+                const T* xi = &x[3 * std::size_t(i)];
+                correction = std::max(correction, double(d[0]) * d[0] + double(d[1]) * d[1] + double(d[2]) * d[2]);
+                dv = std::max(dv, double(xi[0]) * xi[0] + double(xi[1]) * xi[1] + double(xi[2]) * xi[2]);
+            }
+            partial[2 * std::size_t(ch)] = correction;
+            partial[2 * std::size_t(ch) + 1] = dv;
+        }
+    });
+    double correction = 0, dv = 0;
+    for (std::size_t ch = 0; ch < partial.size(); ch += 2)
+        correction = std::max(correction, partial[ch]), dv = std::max(dv, partial[ch + 1]);
+    const double t = settings.localTolerance;
+    return correction <= t * t * dv;
+}
+
 template <class T>
 void Multigrid<T>::Impl::precondition(const std::vector<T>& r, std::vector<T>& z) {
     auto cycleOn = [&](auto& h) {  // this hierarchy, or its float copy (r rounded to float)
@@ -1708,7 +1740,7 @@ void Multigrid<T>::Impl::stationary(double bNorm, MultigridStats& stats) {
     double rel = start(L.x, L.r, bNorm);
     const bool adaptive = s.cycles == 0;
     const int cap = adaptive ? s.maxCycles : s.cycles;
-    while (stats.cycles < cap && (!adaptive || rel > s.tolerance)) {
+    while (stats.cycles < cap && (!adaptive || !converged(rel, L.r, L.x))) {
         cycle(0, true);
         ++stats.cycles;
         // The next cycle (if any) and the adaptive test need the residual; the last fixed one not.
@@ -1727,7 +1759,7 @@ void Multigrid<T>::Impl::conjugateGradients(double bNorm, MultigridStats& stats)
     const bool adaptive = s.cycles == 0;
     const int cap = adaptive ? s.maxCycles : s.cycles;
     double rz = 0, alpha = 0;
-    while (stats.cycles < cap && (!adaptive || rel > s.tolerance)) {
+    while (stats.cycles < cap && (!adaptive || !converged(rel, cgR, cgX))) {
         precondition(cgR, cgZ);
         ++stats.cycles;
         const double rzNext = dot(cgR, cgZ);

@@ -63,6 +63,8 @@ const std::vector<SolverKind>& solverKinds() {
                   shown(integer<M>("cycles", &M::cycles, 0, 1000, "fixed cycles; 0 = adaptive (tolerance, max_cycles)")),
                   real<M>("tolerance", &M::tolerance, 0, 1, true, true, "adaptive: relative residual to reach"),
                   integer<M>("max_cycles", &M::maxCycles, 1, 1000, "adaptive: at most this many cycles"),
+                  real<M>("local_tolerance", &M::localTolerance, 0, 1, false, true,
+                          "adaptive: also no particle's |W_ii^-1 r_i| above this times max |dv_i| (0 = off)"),
                   integer<M>("pre_sweeps", &M::preSweeps, 0, 100, "smoothing sweeps before the coarse correction"),
                   integer<M>("post_sweeps", &M::postSweeps, 0, 100, "smoothing sweeps after it"),
                   real<M>("damping", &M::damping, 0, 1.5, true, false, "smoother: x += damping W_ii^-1 r"),

@@ -281,6 +281,54 @@ TEST(Multigrid, AdaptiveCyclesStopAtTheToleranceAndReportTheCount) {
     EXPECT_EQ(two->step(c.model, {}, state, inputOf(c)).iterations, 2);
 }
 
+// max_i |W_ii^-1 r_i| / max_i |dv_i| over the free particles, with r = b - W dv from the
+// reference path's system (its diagonal blocks, their inverses and its off-diagonal product).
+double largestJacobiCorrection(const Case& c, const LinearSystem& sys, const Points& dv) {
+    Points off;
+    applyOffDiagonal(c.model, sys, dv, off);
+    double correction = 0, largest = 0;
+    for (Index i = 0; i < c.model.particleCount(); ++i) {
+        if (sys.pinned[i]) continue;
+        const Vec3 r = sys.rhs.col(i) - (sys.diag[i] * dv.col(i) - off.col(i));
+        correction = std::max(correction, (sys.diagInv[i] * r).norm());
+        largest = std::max(largest, dv.col(i).norm());
+    }
+    return correction / largest;
+}
+
+TEST(Multigrid, TheLocalToleranceBoundsEveryParticlesJacobiCorrection) {
+    // A wave front in miniature: the solver has solved this state, and now a 3x3 patch in the
+    // middle of the flag is pushed. From the previous dv (the warm start) the residual is that
+    // patch's alone, and its norm is small next to |b| of the whole cloth.
+    const Case c = stiffCase(33, 33, false, 6);
+    Case pushed = c;
+    for (int row = 15; row < 18; ++row)
+        for (int col = 15; col < 18; ++col) pushed.external.col(row * 33 + col) += Vec3(0, 0, 6);
+    LinearSystem sys;
+    buildSystem(pushed.model, {}, pushed.state, inputOf(pushed), true, sys);
+    for (const std::string options : {"", ",krylov=none", ",cycle_precision=float"}) {
+        const std::string spec = "multigrid:tolerance=1e-2,max_cycles=100" + options;
+        auto off = solverFor(spec + ",local_tolerance=0");
+        auto on = solverFor(spec + ",local_tolerance=1e-2");
+        StepResult r[2];
+        for (int k = 0; k < 2; ++k) {
+            Solver& solver = k ? *on : *off;
+            State state = c.state;
+            ASSERT_EQ(solver.step(c.model, {}, state, inputOf(c)).status, StepStatus::Ok) << spec;
+            state = pushed.state;
+            r[k] = solver.step(pushed.model, {}, state, inputOf(pushed));
+            ASSERT_EQ(r[k].status, StepStatus::Ok) << spec;
+        }
+        // Without it the relative residual alone stops the solve with a larger local correction
+        // left (else this case would not test the local tolerance) ...
+        EXPECT_GT(largestJacobiCorrection(pushed, sys, off->lastDv()), 1e-2) << spec;
+        // ... with it both hold, in the reference path's own terms, at the price of more cycles.
+        EXPECT_LE(largestJacobiCorrection(pushed, sys, on->lastDv()), 1e-2) << spec;
+        EXPECT_LE(relativeResidual(pushed.model, sys, on->lastDv()), 1e-2) << spec;
+        EXPECT_GT(r[1].iterations, r[0].iterations) << spec;
+    }
+}
+
 TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndStartsFromZeroAfterAJump) {
     // The hanging flag (vertical, pinned along its pole) sagging under gravity from rest.
     HangingFlagDesc d;
