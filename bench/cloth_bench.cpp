@@ -152,37 +152,36 @@ BENCHMARK_CAPTURE(stepFlag, kangcho_reference, "kangcho:impl=reference", Pole::S
 BENCHMARK_CAPTURE(stepFlag, kangcho_4_iterations, "kangcho:iterations=4", Pole::Still)->Args({33, 1})->Unit(benchmark::kMicrosecond);
 // Multigrid on the same system: one fixed V-cycle, two, and the adaptive default (until the
 // relative residual is under 1.5e-3, K-cycles on level 1, at most 16), next to the paper's step.
-BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_double, "multigrid:cycles=1,cycle_precision=same", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_double, "multigrid:cycles=1", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_float, "multigrid:cycles=1,precision=float", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, multigrid_2_cycles_double, "multigrid:cycles=2,cycle_precision=same", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_2_cycles_double, "multigrid:cycles=2", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 // V(2,2): two smoothing sweeps before and after the coarse correction (the default is V(1,1)).
-BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_v22_double, "multigrid:cycles=1,pre_sweeps=2,post_sweeps=2,cycle_precision=same", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_v22_double, "multigrid:pre_sweeps=2,post_sweeps=2,cycle_precision=same", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_double, "multigrid:cycle_precision=same", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_v22_double, "multigrid:cycles=1,pre_sweeps=2,post_sweeps=2", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_v22_double, "multigrid:pre_sweeps=2,post_sweeps=2", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_double, "multigrid", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_float, "multigrid:precision=float", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 // The goal rows again on the swung pole, where the flag moves in every timed step.
 BENCHMARK_CAPTURE(stepFlag, swung_kangcho_fast_double, "kangcho", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_kangcho_fast_float, "kangcho:precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_double, "multigrid:cycles=1,cycle_precision=same", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_double, "multigrid:cycles=1", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_float, "multigrid:cycles=1,precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_double, "multigrid:cycle_precision=same", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_double, "multigrid", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_float, "multigrid:precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-// Mixed precision, the cycles in float under the double CG: a double solve's default since session
-// 17 (cycle_precision=auto); the _double rows keep the cycles in double (cycle_precision=same).
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_mixed, "multigrid", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_mixed, "multigrid:cycles=1", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+// Mixed precision: the cycles in float under the double CG (cycle_precision=float).
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_mixed, "multigrid:cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_mixed, "multigrid:cycles=1,cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // The adaptive stop on the relative residual alone (the default before session 17's local test).
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_double, "multigrid:local_tolerance=0,cycle_precision=same", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_mixed, "multigrid:local_tolerance=0", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_double, "multigrid:local_tolerance=0", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_mixed, "multigrid:local_tolerance=0,cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // The adaptive default before session 15 (V-cycles to 1e-3), and one K-cycle (the adaptive default
 // runs K-cycles; a fixed count V-cycles): docs/multigrid.md, session 15.
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_double, "multigrid:kcycle=0,tolerance=1e-3,cycle_precision=same", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_double, "multigrid:kcycle=0,tolerance=1e-3", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_float, "multigrid:kcycle=0,tolerance=1e-3,precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_k1_double, "multigrid:cycles=1,kcycle=1,cycle_precision=same", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_k1_double, "multigrid:cycles=1,kcycle=1", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // The coarse operators rebuilt every 4th step and reused in between (coarse_every=4): on the
 // still pole 10-18% cheaper at the same cycle count; on the swung pole the cycles at 129x129 rise
 // from 7.8 to 13.4 (docs/multigrid.md, session 13).
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_lag4_double, "multigrid:coarse_every=4,cycle_precision=same", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_lag4_double, "multigrid:coarse_every=4", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_lag4_float, "multigrid:coarse_every=4,precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, exact_multigrid, "exact:method=multigrid", Pole::Still)->Args({33, 0})->Args({129, 0})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, exact_cholesky, "exact", Pole::Still)->Args({17, 0})->Args({33, 0})->Unit(benchmark::kMicrosecond);

@@ -654,20 +654,20 @@ struct Multigrid<T>::Impl {
     std::vector<T> pinDv;  // level 0
     std::vector<double> partial;
 
-    // MultigridSettings::floatCycles() (T = double): the same system in float, whose cycles
+    // MultigridSettings::floatCycles (T = double): the same system in float, whose cycles
     // precondition this level's CG. It shares the pool.
     std::unique_ptr<typename Multigrid<float>::Impl> lower;
 
     Impl(const MultigridSettings& s, std::shared_ptr<ThreadPool> shared = nullptr)
         : settings(s), pools(shared ? std::move(shared) : std::make_shared<ThreadPool>(s.threads)), pool(*pools) {
         if constexpr (std::is_same_v<T, double>)
-            if (s.floatCycles()) lower = std::make_unique<typename Multigrid<float>::Impl>(s, pools);
+            if (s.floatCycles) lower = std::make_unique<typename Multigrid<float>::Impl>(s, pools);
     }
 
     void prepare(const Model& model);
     void buildFine(const Model& model, const Environment& env, const State& state, const StepInput& input,
                    bool compressionRule);
-    // floatCycles() (T = float): level 0 as `fine`'s level 0 (the same model's double system),
+    // floatCycles (T = float): level 0 as `fine`'s level 0 (the same model's double system),
     // rounded; b stays with fine's CG.
     void roundFine(const typename Multigrid<double>::Impl& fine);
     void useSprings(Level& L, const Model& cloth);

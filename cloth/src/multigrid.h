@@ -25,7 +25,7 @@
 // Pinned particles are unknowns fixed at zero in the iteration (their prescribed dv is already in
 // their neighbours' b, as in the paper's step), so their rows are zero, the prolongation does not
 // reach them, and P^T W P is the Galerkin operator of the free particles.
-// Mixed precision (MultigridSettings::floatCycles()): the double solve keeps a float hierarchy too,
+// Mixed precision (MultigridSettings::floatCycles): the double solve keeps a float hierarchy too,
 // whose level 0 is its own W rounded, and each CG iteration's cycle runs there, on the residual
 // rounded to float.
 // Every loop runs over rows (or coarse rows) split across threads, and every sum over rows runs
@@ -140,7 +140,7 @@ public:
 
 private:
     template <class>
-    friend class Multigrid;  // the double solve keeps a float one for its cycles (floatCycles())
+    friend class Multigrid;  // the double solve keeps a float one for its cycles (floatCycles)
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

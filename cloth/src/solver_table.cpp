@@ -92,19 +92,15 @@ const std::vector<SolverKind>& solverKinds() {
                                       {{"auto", M::Start::Auto}, {"previous", M::Start::Previous}, {"zero", M::Start::Zero}},
                                       "each solve from the previous step's dv (where its residual is smaller) or "
                                       "from zero; auto: previous when adaptive"),
-                  choice<M, M::CyclePrecision>("cycle_precision", &M::cyclePrecision,
-                                               {{"auto", M::CyclePrecision::Auto},
-                                                {"same", M::CyclePrecision::Same},
-                                                {"float", M::CyclePrecision::Float}},
-                                               "arithmetic of the cycles (CG's preconditioner): as the solve's, or "
-                                               "float under a double CG (mixed precision); auto: float when the "
-                                               "solve is double with krylov=cg")} +
+                  choice<M, bool>("cycle_precision", &M::floatCycles, {{"same", false}, {"float", true}},
+                                  "arithmetic of the cycles (CG's preconditioner): as the solve's, or float under "
+                                  "a double CG (mixed precision)")} +
                   parallel<M>("arithmetic of the solve (the state stays double)"),
               true),
          [](const SolverConfig& c) -> std::string {
              const M& s = c.get<M>();
              if (s.preSweeps + s.postSweeps == 0) return "solver 'multigrid': pre_sweeps + post_sweeps must be at least 1";
-             if (s.cyclePrecision == M::CyclePrecision::Float && (s.singlePrecision || !s.conjugateGradients))
+             if (s.floatCycles && (s.singlePrecision || !s.conjugateGradients))
                  return std::string("solver 'multigrid' parameter cycle_precision = float needs precision = double and "
                                     "krylov = cg (the double CG corrects the float cycles), not ") +
                         (s.singlePrecision ? "precision = float" : "krylov = none");

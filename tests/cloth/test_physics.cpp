@@ -784,8 +784,6 @@ TEST(GoldenHash, KangChoFloatThreads1) { expectGoldenHash("kangcho:precision=flo
 TEST(GoldenHash, KangChoFloatThreads2) { expectGoldenHash("kangcho:precision=float", 2); }
 TEST(GoldenHash, MultigridThreads1) { expectGoldenHash("multigrid", 1); }
 TEST(GoldenHash, MultigridThreads2) { expectGoldenHash("multigrid", 2); }
-TEST(GoldenHash, MultigridDoubleCyclesThreads1) { expectGoldenHash("multigrid:cycle_precision=same", 1); }
-TEST(GoldenHash, MultigridDoubleCyclesThreads2) { expectGoldenHash("multigrid:cycle_precision=same", 2); }
 TEST(GoldenHash, MultigridVCycleThreads1) { expectGoldenHash("multigrid:kcycle=0,tolerance=0.001", 1); }
 TEST(GoldenHash, MultigridColdStartThreads1) { expectGoldenHash("multigrid:kcycle=0,tolerance=0.001,start=zero", 1); }
 TEST(GoldenHash, MultigridBendKeptThreads1) {

@@ -93,19 +93,14 @@ struct MultigridSettings {
     Start start = Start::Auto;
     int threads = 1;
     bool singlePrecision = false;
-    // The arithmetic of the cycles, CG's preconditioner. Float under a double solve is mixed
-    // precision: the cycles run on the same system rounded to float, while CG, its products with
-    // W, the residual it tests and the answer stay double. A float cycle moves half the bytes of a
-    // double one; CG corrects the preconditioner's rounding, so the solve still reaches double
-    // tolerances. Auto: float when the solve is double and runs CG (0.76-0.88x the time of double
-    // cycles, with the same stretch on the vehicle path once the local stopping test is on:
-    // docs/multigrid.md, sessions 16 and 17), else the solve's own.
-    enum class CyclePrecision { Auto, Same, Float };
-    CyclePrecision cyclePrecision = CyclePrecision::Auto;
-    bool floatCycles() const {
-        return !singlePrecision && conjugateGradients &&
-               (cyclePrecision == CyclePrecision::Float || cyclePrecision == CyclePrecision::Auto);
-    }
+    // Mixed precision (with singlePrecision false and conjugate gradients): the cycles, the
+    // preconditioner, run on the same system rounded to float, while CG, its products with W and
+    // the residual it tests stay double. A float cycle moves half the bytes of a double one; CG
+    // corrects the preconditioner's rounding, so the solve still reaches double tolerances. Not
+    // the default: with the local stopping test it holds the vehicle path as double cycles do,
+    // but in the 10 g stop at 65x65 its peak stretch was higher in 4 of 5 runs (0.27-0.47 against
+    // 0.16-0.36; docs/multigrid.md, session 17).
+    bool floatCycles = false;
     int coarsestParticles = 16;  // coarsen until a level has at most this many (not a key)
     // The Galerkin product by stencil (nested grids, multigrid.h) from this many coarse points per
     // row; shorter rows use the plan, which was faster there with the bend springs kept (at 33x33:

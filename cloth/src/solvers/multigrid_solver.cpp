@@ -28,8 +28,7 @@ private:
         MultigridSettings m;
         m.tolerance = settings<ExactSettings>().tolerance;
         m.maxCycles = std::min(settings<ExactSettings>().maxIterations, 1000);
-        m.localTolerance = 0;  // the reference stops on its relative residual alone,
-        m.cyclePrecision = MultigridSettings::CyclePrecision::Same;  // and cycles in its own arithmetic
+        m.localTolerance = 0;  // the reference stops on its relative residual alone
         return m;
     }
     bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
