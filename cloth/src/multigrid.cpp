@@ -1673,6 +1673,7 @@ bool Multigrid<T>::Impl::converged(double rel, const std::vector<T>& r, const st
     if (settings.localTolerance <= 0) return true;
     const Level& L = levels[0];
     const int n = L.A.n;
+    auto squared = [](const T* v) { return double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2]; };
     partial.assign(2 * std::size_t(chunks(n)), 0.0);
     pool.run(chunks(n), [&](int begin, int end) {
         for (int ch = begin; ch < end; ++ch) {
@@ -1680,9 +1681,8 @@ bool Multigrid<T>::Impl::converged(double rel, const std::vector<T>& r, const st
             for (int i = ch * kChunk; i < std::min(n, (ch + 1) * kChunk); ++i) {
                 T d[3];
                 symmetricTimes(&L.dinv[6 * std::size_t(i)], &r[3 * std::size_t(i)], d);
-                const T* xi = &x[3 * std::size_t(i)];
-                correction = std::max(correction, double(d[0]) * d[0] + double(d[1]) * d[1] + double(d[2]) * d[2]);
-                dv = std::max(dv, double(xi[0]) * xi[0] + double(xi[1]) * xi[1] + double(xi[2]) * xi[2]);
+                correction = std::max(correction, squared(d));
+                dv = std::max(dv, squared(&x[3 * std::size_t(i)]));
             }
             partial[2 * std::size_t(ch)] = correction;
             partial[2 * std::size_t(ch) + 1] = dv;
