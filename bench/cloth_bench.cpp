@@ -173,6 +173,10 @@ BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_mixed, "multigrid:cycles=1,c
 // The adaptive stop on the relative residual alone (the default before session 17's local test).
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_double, "multigrid:local_tolerance=0", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_mixed, "multigrid:local_tolerance=0,cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+// The start from the last solve's dv alone (scaled to the least error), and from the last three:
+// the default combines the last two (start_history=2; docs/multigrid.md, session 18).
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_history1_double, "multigrid:start_history=1", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_history3_double, "multigrid:start_history=3", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // The adaptive default before session 15 (V-cycles to 1e-3), and one K-cycle (the adaptive default
 // runs K-cycles; a fixed count V-cycles): docs/multigrid.md, session 15.
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_double, "multigrid:kcycle=0,tolerance=1e-3", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);

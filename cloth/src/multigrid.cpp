@@ -708,7 +708,8 @@ struct Multigrid<T>::Impl {
                (settings.start == MultigridSettings::Start::Auto && settings.cycles == 0);
     }
     std::vector<T> cgX, cgR, cgZ, cgP, cgQ;
-    std::vector<T> previous;  // the last solve's dv (free rows), for MultigridSettings::start
+    std::vector<std::vector<T>> history;  // the last solves' dv, newest first, for MultigridSettings::start
+    std::vector<std::vector<T>> historyW;  // scratch: W times each
 
     int chunks(int n) const { return (n + kChunk - 1) / kChunk; }
     T lastH2 = 0;
@@ -718,7 +719,7 @@ struct Multigrid<T>::Impl {
 template <class T>
 void Multigrid<T>::Impl::prepare(const Model& model) {
     modelId = model.id();
-    previous.clear();
+    history.clear();
     coarseAge = -1;
     const int n = model.particleCount();
     int nestedTransfers = 0;
@@ -1714,18 +1715,85 @@ void Multigrid<T>::Impl::precondition(const std::vector<T>& r, std::vector<T>& z
     else cycleOn(*this);
 }
 
+namespace {
+
+// The coefficients c that minimize the energy norm of the error of x = sum_j c_j p_j, from the
+// Gram matrix G_ij = p_i . W p_j and g_i = p_i . b: G c = g, by Cholesky with the vectors taken in
+// order (newest first), and a vector dropped (c_j = 0) when what it adds beyond the ones kept has
+// at most `drop` of its own energy (a vector the others nearly span would only amplify rounding).
+Eigen::VectorXd energyCoefficients(const Eigen::MatrixXd& G, const Eigen::VectorXd& g, double drop) {
+    const int k = int(g.size());
+    std::vector<int> kept;
+    Eigen::MatrixXd L = Eigen::MatrixXd::Zero(k, k);  // Cholesky factor of G over the kept vectors
+    for (int j = 0; j < k; ++j) {
+        const int m = int(kept.size());
+        Eigen::VectorXd row(m);
+        for (int a = 0; a < m; ++a) {
+            double v = G(j, kept[a]);
+            for (int c = 0; c < a; ++c) v -= row[c] * L(a, c);
+            row[a] = v / L(a, a);
+        }
+        const double pivot = G(j, j) - row.squaredNorm();
+        if (!(pivot > drop * G(j, j))) continue;
+        L.row(m).head(m) = row.transpose();
+        L(m, m) = std::sqrt(pivot);
+        kept.push_back(j);
+    }
+    const int m = int(kept.size());
+    Eigen::VectorXd y(m);
+    for (int a = 0; a < m; ++a) {  // L y = g, then L^T c = y
+        double v = g[kept[a]];
+        for (int c = 0; c < a; ++c) v -= L(a, c) * y[c];
+        y[a] = v / L(a, a);
+    }
+    Eigen::VectorXd c = Eigen::VectorXd::Zero(k);
+    for (int a = m - 1; a >= 0; --a) {
+        double v = y[a];
+        for (int e = a + 1; e < m; ++e) v -= L(e, a) * c[kept[e]];
+        c[kept[a]] = v / L(a, a);
+    }
+    return c;
+}
+
+}  // namespace
+
 // The iteration's start x and its residual r = b - W x (b: level 0's); returns |r| / |b|. From
-// zero, or (MultigridSettings::start) from the previous solve's dv on the rows that are free
-// now, when that leaves a smaller residual (after a jump or a change of pins it may not).
+// zero, or (MultigridSettings::start) from the combination of the last solves' dv (on the rows
+// free now) that minimizes the energy norm of the error, ||x - x*||_W, over their span: one
+// product with W per vector, a small Gram system, and r from the products, with no product more.
+// The span holds the previous dv itself, so the start is never worse in that norm than it; with
+// two vectors it holds the linear extrapolation 2 dv_{n-1} - dv_{n-2} too. Nor is it worse than
+// zero (after a jump or a change of pins the coefficients go to nearly nothing).
 template <class T>
 double Multigrid<T>::Impl::start(std::vector<T>& x, std::vector<T>& r, double bNorm) {
     Level& L = levels[0];
-    if (warmStart() && previous.size() == L.b.size()) {
-        x.resize(previous.size());
-        for (std::size_t q = 0; q < x.size(); ++q) x[q] = previous[q] * L.active[q / 3];
-        residual(0, x, L.b, r);
-        const double rel = norm(r) / bNorm;
-        if (rel < 1) return rel;
+    int k = 0;
+    while (warmStart() && k < int(history.size()) && history[k].size() == L.b.size()) ++k;
+    if (k > 0) {
+        historyW.resize(k);
+        Eigen::MatrixXd G(k, k);
+        Eigen::VectorXd g(k);
+        for (int j = 0; j < k; ++j) {
+            for (std::size_t q = 0; q < history[j].size(); ++q) history[j][q] *= L.active[q / 3];
+            product(0, history[j], nullptr, historyW[j]);
+            g[j] = dot(history[j], L.b);
+            for (int i = 0; i <= j; ++i) G(i, j) = G(j, i) = dot(history[i], historyW[j]);
+        }
+        // float: keep the coefficients small enough that the rounding of r stays far below the
+        // tolerances a float solve reaches
+        const Eigen::VectorXd c = energyCoefficients(G, g, std::is_same_v<T, float> ? 1e-5 : 1e-10);
+        x.assign(L.b.size(), T(0));
+        r = L.b;
+        for (int j = 0; j < k; ++j) {
+            const T cj = T(c[j]);
+            if (cj == T(0)) continue;
+            const T *p = history[j].data(), *q = historyW[j].data();
+            pool.run(L.A.n, [&](int begin, int end) {
+                for (std::size_t e = 3 * std::size_t(begin); e < 3 * std::size_t(end); ++e)
+                    x[e] += cj * p[e], r[e] -= cj * q[e];
+            });
+        }
+        return norm(r) / bNorm;
     }
     x.assign(L.b.size(), T(0));
     r = L.b;
@@ -1829,7 +1897,11 @@ bool Multigrid<T>::solve(const Model& model, const Environment& env, const State
     for (int i = 0; i < n; ++i)
         for (int a = 0; a < 3; ++a)
             out[3 * i + a] = L.pinned[i] ? double(m.pinDv[3 * i + a]) : double(m.cgX[3 * std::size_t(i) + a]);
-    if (m.warmStart()) m.previous.swap(m.cgX);  // the next start() rewrites cgX
+    if (m.warmStart()) {
+        if (int(m.history.size()) < m.settings.startHistory) m.history.emplace_back();
+        std::rotate(m.history.rbegin(), m.history.rbegin() + 1, m.history.rend());
+        m.history[0].swap(m.cgX);  // the next start() rewrites cgX
+    }
     return dv.allFinite();
 }
 

@@ -90,8 +90,11 @@ const std::vector<SolverKind>& solverKinds() {
                              "cycle (K-cycle); 0: V-cycle; -1: 1 when adaptive, 0 for a fixed count"),
                   choice<M, M::Start>("start", &M::start,
                                       {{"auto", M::Start::Auto}, {"previous", M::Start::Previous}, {"zero", M::Start::Zero}},
-                                      "each solve from the previous step's dv (where its residual is smaller) or "
+                                      "each solve from the last steps' dv (where its residual is smaller) or "
                                       "from zero; auto: previous when adaptive"),
+                  integer<M>("start_history", &M::startHistory, 1, 8,
+                             "start from the combination of the last N solves' dv with the least error in "
+                             "W's energy norm (one product with W each; 2 spans the linear extrapolation)"),
                   choice<M, bool>("cycle_precision", &M::floatCycles, {{"same", false}, {"float", true}},
                                   "arithmetic of the cycles (CG's preconditioner): as the solve's, or float under "
                                   "a double CG (mixed precision)")} +

@@ -329,7 +329,7 @@ TEST(Multigrid, TheLocalToleranceBoundsEveryParticlesJacobiCorrection) {
     }
 }
 
-TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndStartsFromZeroAfterAJump) {
+TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneAfterAJump) {
     // The hanging flag (vertical, pinned along its pole) sagging under gravity from rest.
     HangingFlagDesc d;
     d.nx = d.ny = 33;
@@ -356,19 +356,28 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndStartsFromZeroAfterAJ
     // The same system again: the previous dv already meets the tolerance, so no cycle runs.
     State again = flag.state;
     warm->step(flag.model, {}, again, in);
-    const Points first = warm->lastDv();
     again = flag.state;
     EXPECT_EQ(warm->step(flag.model, {}, again, in).iterations, 0);
-    EXPECT_EQ(warm->lastDv(), first);
-    // A jump: a side force of 100 N per particle, so that the previous dv leaves a residual larger
-    // than |b|. The solve starts from zero: the cold solve, bit for bit.
+    {
+        LinearSystem sys;
+        buildSystem(flag.model, {}, flag.state, in, true, sys);
+        EXPECT_LE(relativeResidual(flag.model, sys, warm->lastDv()), tol);
+    }
+    // A jump: a side force of 100 N per particle. The last solves' dv are far from the new one,
+    // and their best combination is nearly nothing: the solve meets the tolerance in about the
+    // cycles a cold solve takes (never worse in the energy norm than starting from zero).
     const Points push = Points::Constant(3, flag.model.particleCount(), 100.0);
     in.externalForce = &push;
     auto cold = solverFor(spec + ",start=zero");
     State coldState = flag.state;
     const StepResult rc = cold->step(flag.model, {}, coldState, in);
-    EXPECT_EQ(warm->step(flag.model, {}, flag.state, in).iterations, rc.iterations);
-    EXPECT_EQ(warm->lastDv(), cold->lastDv());
+    {
+        LinearSystem sys;
+        buildSystem(flag.model, {}, flag.state, in, true, sys);
+        const StepResult rw = warm->step(flag.model, {}, flag.state, in);
+        EXPECT_LE(rw.iterations, rc.iterations);
+        EXPECT_LE(relativeResidual(flag.model, sys, warm->lastDv()), tol);
+    }
     // A fixed count starts from zero unless asked: the same bits as a fresh solver's.
     const Case c = stiffCase(33, 33, false, 4);
     auto fixed = solverFor("multigrid:cycles=1");
@@ -379,6 +388,42 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndStartsFromZeroAfterAJ
     auto fresh = solverFor("multigrid:cycles=1");
     fresh->step(c.model, {}, b, inputOf(c));
     EXPECT_EQ(fixed->lastDv(), fresh->lastDv());
+}
+
+TEST(Multigrid, TwoPreviousSolvesSpanALinearlyChangingSolutionSoEachSolveNeedsAtMostOneCycle) {
+    // One state, its system solved again and again with an external force that grows by the same
+    // step each time: the exact dv_n = W^-1 b_n is linear in n, so dv_n = 2 dv_{n-1} - dv_{n-2}
+    // lies in the span of the last two solves, and the start that minimizes the error's energy
+    // norm over that span finds it. One previous solve alone cannot (dv_n is no multiple of it).
+    // The solves stop on the relative residual alone, at 1e-8.
+    const Case c = stiffCase(33, 33, false, 5);
+    const int n = c.model.particleCount();
+    auto run = [&](int history, double* residual) {
+        auto solver = solverFor("multigrid:tolerance=1e-8,local_tolerance=0,start=previous,start_history=" + std::to_string(history));
+        int cycles = 0;
+        for (int k = 0; k < 6; ++k) {
+            Points force(3, n);
+            for (int i = 0; i < n; ++i)
+                force.col(i) = Eigen::Vector3d(2.0 * k, 1.0 * (i % 7), -1.5 * k * (i % 3));
+            StepInput in = inputOf(c);
+            in.externalForce = &force;
+            State s = c.state;
+            const StepResult r = solver->step(c.model, {}, s, in);
+            EXPECT_EQ(r.status, StepStatus::Ok) << history << " " << k;
+            if (k >= 3) cycles += r.iterations;
+            LinearSystem sys;
+            buildSystem(c.model, {}, c.state, in, true, sys);
+            *residual = std::max(*residual, relativeResidual(c.model, sys, solver->lastDv()));
+        }
+        return cycles;
+    };
+    double one = 0, two = 0;
+    // Steps 3-5 start within the last solves' errors (1e-8) of the answer: at most one cycle each
+    // (measured 0, 1, 0), where one previous solve takes 9-10 each.
+    EXPECT_LE(run(2, &two), 3);
+    EXPECT_GE(run(1, &one), 15);
+    EXPECT_LE(one, 1e-8);
+    EXPECT_LE(two, 1e-8);
 }
 
 TEST(Multigrid, ReusedCoarseOperatorsStillReachTheToleranceAndAreRebuiltWhenThePinsChange) {
