@@ -271,8 +271,7 @@ template <class T, int Step>
 CLOTH_SIMD_CLONES void nestedGalerkinRow(const NestedTerm<T>* terms, int count, const T* V, const std::size_t* bandAt,
                                          std::size_t stride, int pitch, int rows, int rowScale, int cx, int Y,
                                          T* const* out, std::size_t outStride, int bands) {
-    for (int d = 0; d < bands; ++d)
-        for (int q = 0; out[d] && q < 6; ++q) std::fill_n(out[d] + q * outStride, cx, T(0));
+    bool written[BlockMatrix<T>::kMaxBands + 1] = {};
     for (int t = 0; t < count; ++t) {
         const NestedTerm<T>& term = terms[t];
         const int fy = rowScale * Y + term.ay;
@@ -286,12 +285,26 @@ CLOTH_SIMD_CLONES void nestedGalerkinRow(const NestedTerm<T>* terms, int count, 
         const T *__restrict s3 = s2 + st, *__restrict s4 = s3 + st, *__restrict s5 = s4 + st;
         T *__restrict g0 = out[term.dst], *__restrict g1 = g0 + outStride, *__restrict g2 = g1 + outStride;
         T *__restrict g3 = g2 + outStride, *__restrict g4 = g3 + outStride, *__restrict g5 = g4 + outStride;
+        if (written[term.dst]) {
+            CLOTH_IVDEP
+            for (int X = x0; X < x1; ++X) {
+                g0[X] += w * s0[Step * X], g1[X] += w * s1[Step * X], g2[X] += w * s2[Step * X];
+                g3[X] += w * s3[Step * X], g4[X] += w * s4[Step * X], g5[X] += w * s5[Step * X];
+            }
+            continue;
+        }
+        // A band's first term sets its row (0 + a and a are the same number, so the sums keep
+        // their bits; zeroing every row first and adding was 5% of a one-cycle step at 129x129).
+        written[term.dst] = true;
+        for (T* g : {g0, g1, g2, g3, g4, g5}) std::fill(g, g + x0, T(0)), std::fill(g + x1, g + cx, T(0));
         CLOTH_IVDEP
         for (int X = x0; X < x1; ++X) {
-            g0[X] += w * s0[Step * X], g1[X] += w * s1[Step * X], g2[X] += w * s2[Step * X];
-            g3[X] += w * s3[Step * X], g4[X] += w * s4[Step * X], g5[X] += w * s5[Step * X];
+            g0[X] = w * s0[Step * X], g1[X] = w * s1[Step * X], g2[X] = w * s2[Step * X];
+            g3[X] = w * s3[Step * X], g4[X] = w * s4[Step * X], g5[X] = w * s5[Step * X];
         }
     }
+    for (int d = 0; d < bands; ++d)  // a band no term reaches in this row
+        for (int q = 0; out[d] && !written[d] && q < 6; ++q) std::fill_n(out[d] + q * outStride, cx, T(0));
 }
 
 }  // namespace
