@@ -1899,7 +1899,7 @@ bool Multigrid<T>::solve(const Model& model, const Environment& env, const State
     const double bNorm = m.norm(L.b);
     stats = {};
     if (bNorm > 0) {
-        if (m.settings.conjugateGradients) m.conjugateGradients(bNorm, stats);
+        if (m.settings.conjugateGradients()) m.conjugateGradients(bNorm, stats);
         else m.stationary(bNorm, stats);
     } else {
         m.cgX.assign(L.b.size(), T(0));

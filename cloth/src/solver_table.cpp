@@ -83,8 +83,10 @@ const std::vector<SolverKind>& solverKinds() {
                   choice<M, bool>("bend", &M::collapseBend, {{"collapse", true}, {"keep", false}},
                                   "Galerkin on grids: coarse levels see each bend spring as two over its halves "
                                   "(9-point coarse stencil), or as it is"),
-                  choice<M, bool>("krylov", &M::conjugateGradients, {{"cg", true}, {"none", false}},
-                                  "cg: cycles precondition CG; none: cycles alone"),
+                  choice<M, M::Krylov>("krylov", &M::krylov,
+                                       {{"auto", M::Krylov::Auto}, {"cg", M::Krylov::CG}, {"none", M::Krylov::None}},
+                                       "cg: cycles precondition CG; none: cycles alone; auto: cg, but one fixed "
+                                       "cycle alone"),
                   integer<M>("kcycle", &M::kcycleLevels, -1, 100,
                              "coarse levels 1..N solved by two flexible CG iterations preconditioned by a "
                              "cycle (K-cycle); 0: V-cycle; -1: 1 when adaptive, 0 for a fixed count"),
@@ -103,7 +105,7 @@ const std::vector<SolverKind>& solverKinds() {
          [](const SolverConfig& c) -> std::string {
              const M& s = c.get<M>();
              if (s.preSweeps + s.postSweeps == 0) return "solver 'multigrid': pre_sweeps + post_sweeps must be at least 1";
-             if (s.floatCycles && (s.singlePrecision || !s.conjugateGradients))
+             if (s.floatCycles && (s.singlePrecision || s.krylov == M::Krylov::None))
                  return std::string("solver 'multigrid' parameter cycle_precision = float needs precision = double and "
                                     "krylov = cg (the double CG corrects the float cycles), not ") +
                         (s.singlePrecision ? "precision = float" : "krylov = none");

@@ -390,6 +390,24 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneA
     EXPECT_EQ(fixed->lastDv(), fresh->lastDv());
 }
 
+TEST(Multigrid, OneFixedCycleRunsAloneUnlessCgIsAskedFor) {
+    // krylov=auto: one fixed cycle is the cycle alone (the stationary iteration's one step), not
+    // CG's one iteration, which scales it by a step length; two cycles run under CG.
+    const Case c = stiffCase(33, 33, false, 3);
+    auto dvOf = [&](const std::string& spec) {
+        auto solver = solverFor(spec);
+        State s = c.state;
+        EXPECT_EQ(solver->step(c.model, {}, s, inputOf(c)).status, StepStatus::Ok) << spec;
+        return solver->lastDv();
+    };
+    EXPECT_EQ(dvOf("multigrid:cycles=1"), dvOf("multigrid:cycles=1,krylov=none"));
+    EXPECT_NE(dvOf("multigrid:cycles=1"), dvOf("multigrid:cycles=1,krylov=cg"));
+    EXPECT_EQ(dvOf("multigrid:cycles=2"), dvOf("multigrid:cycles=2,krylov=cg"));
+    EXPECT_NE(dvOf("multigrid:cycles=2"), dvOf("multigrid:cycles=2,krylov=none"));
+    // Float cycles need CG: one mixed-precision cycle still runs under it.
+    EXPECT_EQ(dvOf("multigrid:cycles=1,cycle_precision=float"), dvOf("multigrid:cycles=1,cycle_precision=float,krylov=cg"));
+}
+
 TEST(Multigrid, TwoPreviousSolvesSpanALinearlyChangingSolutionSoEachSolveNeedsAtMostOneCycle) {
     // One state, its system solved again and again with an external force that grows by the same
     // step each time: the exact dv_n = W^-1 b_n is linear in n, so dv_n = 2 dv_{n-1} - dv_{n-2}

@@ -75,8 +75,15 @@ struct MultigridSettings {
     int coarseEvery = 1;
     // Cycles as the preconditioner of conjugate gradients (one V-cycle per CG iteration) rather
     // than as a stationary iteration. The V-cycle is symmetric (the same damped Jacobi before and
-    // after), so CG applies.
-    bool conjugateGradients = true;
+    // after), so CG applies. Auto: CG, except for one fixed cycle, which CG would only scale by
+    // its step length, at one product with W more (on the vehicle path that scaling moved the
+    // solve error by -4% to +7%, and the cycle alone was 7-14% cheaper: docs/multigrid.md,
+    // session 18). Float cycles always run under CG.
+    enum class Krylov { Auto, CG, None };
+    Krylov krylov = Krylov::Auto;
+    bool conjugateGradients() const {
+        return krylov == Krylov::CG || (krylov == Krylov::Auto && (cycles != 1 || floatCycles));
+    }
     // Levels 1..kcycleLevels (not the coarsest) are solved, wherever a finer level calls them, by
     // two iterations of flexible CG each preconditioned by one cycle from that level (Notay and
     // Vassilevski's K-cycle), instead of one cycle. 0: a V-cycle. The preconditioner is then
