@@ -165,6 +165,9 @@ BENCHMARK_CAPTURE(stepFlag, swung_kangcho_fast_double, "kangcho", Pole::Swung)->
 BENCHMARK_CAPTURE(stepFlag, swung_kangcho_fast_float, "kangcho:precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_double, "multigrid:cycles=1", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_float, "multigrid:cycles=1,precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+// One cycle under CG (its one iteration scales the cycle by a step length; the default runs the
+// cycle alone since session 18).
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_cg_double, "multigrid:cycles=1,krylov=cg", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_double, "multigrid", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_float, "multigrid:precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // Mixed precision: the cycles in float under the double CG (cycle_precision=float).
