@@ -92,8 +92,8 @@ const std::vector<SolverKind>& solverKinds() {
                              "cycle (K-cycle); 0: V-cycle; -1: 1 when adaptive, 0 for a fixed count"),
                   choice<M, M::Start>("start", &M::start,
                                       {{"auto", M::Start::Auto}, {"previous", M::Start::Previous}, {"zero", M::Start::Zero}},
-                                      "each solve from the last steps' dv (where its residual is smaller) or "
-                                      "from zero; auto: previous when adaptive"),
+                                      "each solve from the last steps' dv (their best combination, start_history) "
+                                      "or from zero; auto: previous when adaptive"),
                   integer<M>("start_history", &M::startHistory, 1, 8,
                              "start from the combination of the last N solves' dv with the least error in "
                              "W's energy norm (one product with W each; 2 spans the linear extrapolation)"),
