@@ -94,13 +94,14 @@ struct MultigridSettings {
     int kLevels() const { return kcycleLevels >= 0 ? kcycleLevels : cycles == 0 ? 1 : 0; }
     // Where each solve starts: from the last steps' dv (on the rows free now), or from zero.
     // Previous: the combination of the last startHistory solves' dv that minimizes the energy
-    // norm of the error (one product with W per vector; from zero when its residual is not
-    // smaller than |b|). Auto: previous when adaptive (the cycles to the tolerance drop), zero for
-    // a fixed count (whose cost it would raise).
+    // norm of the error (one product with W per vector; zero is in their span, so after a jump
+    // the coefficients fall to nearly nothing). Auto: previous when adaptive (the cycles to the
+    // tolerance drop), zero for a fixed count (whose cost it would raise).
     enum class Start { Auto, Previous, Zero };
     Start start = Start::Auto;
     // Two vectors span the linear extrapolation 2 dv_{n-1} - dv_{n-2}: on the swung pole at
-    // 129x129 the cycles per step fell from 5.6 to 4.4 (docs/multigrid.md, session 18).
+    // 129x129 the cycles per step fell from 5.47 (one vector) to 4.22, and three saved too
+    // little for their extra product (docs/multigrid.md, session 18).
     int startHistory = 2;
     int threads = 1;
     bool singlePrecision = false;
