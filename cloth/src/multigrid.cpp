@@ -1738,14 +1738,14 @@ Eigen::VectorXd energyCoefficients(const Eigen::MatrixXd& G, const Eigen::Vector
     const int k = int(g.size());
     std::vector<int> kept;
     Eigen::MatrixXd L = Eigen::MatrixXd::Zero(k, k);  // Cholesky factor of G over the kept vectors
+    auto over = [&](const Eigen::VectorXd& v) {  // v's entries of the kept vectors
+        Eigen::VectorXd o(kept.size());
+        for (std::size_t a = 0; a < kept.size(); ++a) o[a] = v[kept[a]];
+        return o;
+    };
     for (int j = 0; j < k; ++j) {
         const int m = int(kept.size());
-        Eigen::VectorXd row(m);
-        for (int a = 0; a < m; ++a) {
-            double v = G(j, kept[a]);
-            for (int c = 0; c < a; ++c) v -= row[c] * L(a, c);
-            row[a] = v / L(a, a);
-        }
+        const Eigen::VectorXd row = L.topLeftCorner(m, m).triangularView<Eigen::Lower>().solve(over(G.col(j)));
         const double pivot = G(j, j) - row.squaredNorm();
         if (!(pivot > drop * G(j, j))) continue;
         L.row(m).head(m) = row.transpose();
@@ -1753,18 +1753,10 @@ Eigen::VectorXd energyCoefficients(const Eigen::MatrixXd& G, const Eigen::Vector
         kept.push_back(j);
     }
     const int m = int(kept.size());
-    Eigen::VectorXd y(m);
-    for (int a = 0; a < m; ++a) {  // L y = g, then L^T c = y
-        double v = g[kept[a]];
-        for (int c = 0; c < a; ++c) v -= L(a, c) * y[c];
-        y[a] = v / L(a, a);
-    }
+    const auto Lk = L.topLeftCorner(m, m).triangularView<Eigen::Lower>();
+    const Eigen::VectorXd ck = Lk.transpose().solve(Lk.solve(over(g)));
     Eigen::VectorXd c = Eigen::VectorXd::Zero(k);
-    for (int a = m - 1; a >= 0; --a) {
-        double v = y[a];
-        for (int e = a + 1; e < m; ++e) v -= L(e, a) * c[kept[e]];
-        c[kept[a]] = v / L(a, a);
-    }
+    for (int a = 0; a < m; ++a) c[kept[a]] = ck[a];
     return c;
 }
 
