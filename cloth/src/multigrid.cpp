@@ -1779,7 +1779,10 @@ double Multigrid<T>::Impl::start(std::vector<T>& x, std::vector<T>& r, double bN
         Eigen::MatrixXd G(k, k);
         Eigen::VectorXd g(k);
         for (int j = 0; j < k; ++j) {
-            for (std::size_t q = 0; q < history[j].size(); ++q) history[j][q] *= L.active[q / 3];
+            T* p = history[j].data();
+            pool.run(L.A.n, [&](int begin, int end) {
+                for (std::size_t q = 3 * std::size_t(begin); q < 3 * std::size_t(end); ++q) p[q] *= L.active[q / 3];
+            });
             product(0, history[j], nullptr, historyW[j]);
             g[j] = dot(history[j], L.b);
             for (int i = 0; i <= j; ++i) G(i, j) = G(j, i) = dot(history[i], historyW[j]);
