@@ -484,12 +484,20 @@ struct BandedSprings {
     std::vector<T> freeRow;          // n + 2 pad: 1 where the particle is free
     std::vector<T> bterm;            // 3 arrays per band of btStride, pad zeros first
     std::size_t btStride = 0;
+    // The springs' blocks of W in the form the product reads: W_{i, i + o} = -h^2 (a I + b u u^T) =
+    // -(c I + g g^T) with c = h^2 a and g = h sqrt(b) u (b >= 0; zero where an end is pinned or
+    // there is no spring), four arrays per band (g0 g1 g2 c) of springStride, pad zeros first.
+    // Four numbers a block instead of six: a product at 129x129 and larger streams W from memory.
+    std::vector<T> spring;
+    std::size_t springStride = 0;
 
     bool used() const { return !offsets.empty(); }
     std::size_t len() const { return std::size_t(n) + 2 * std::size_t(pad); }
     const double* x(int a) const { return xyz.data() + a * len() + pad; }
     const double* v(int a) const { return vel.data() + a * len() + pad; }
     T* bt(int band, int a) { return bterm.data() + (3 * std::size_t(band) + a) * btStride + pad; }
+    T* sp(int band, int q) { return spring.data() + (4 * std::size_t(band) + q) * springStride + pad; }
+    const T* sp(int band, int q) const { return spring.data() + (4 * std::size_t(band) + q) * springStride + pad; }
 };
 
 template <class T>
@@ -499,13 +507,15 @@ struct BandSpringArgs {
     T* o[6];    // the band's six arrays of W, at row 0
     T* copy;    // the band's blocks in BlockMatrix::blocks (6 per slot), or null where not kept
     T* bt[3];
+    T* g[4];    // the band's compact arrays (BandedSprings::spring)
     int offset;
     T h, h2;
     bool compressionRule;
 };
 
 // Eqs. 15-17 for the slots [begin, end) of one band: W's block -h^2 J (zero where an end is pinned
-// or there is no spring) into the band and BlockMatrix::blocks, and with velocities (WithRhs) the term
+// or there is no spring) into the band, BlockMatrix::blocks and the compact arrays (BandedSprings::
+// spring), and with velocities (WithRhs) the term
 // of b for the lower end, h fm u + h^2 J (v_upper - v_lower) (the upper end's is the negative).
 template <class T, bool WithRhs>
 CLOTH_SIMD_CLONES void bandSpringKernel(const BandSpringArgs<T>& a, int begin, int end) {
@@ -516,6 +526,7 @@ CLOTH_SIMD_CLONES void bandSpringKernel(const BandSpringArgs<T>& a, int begin, i
     T *__restrict o0 = a.o[0], *__restrict o1 = a.o[1], *__restrict o2 = a.o[2];
     T *__restrict o3 = a.o[3], *__restrict o4 = a.o[4], *__restrict o5 = a.o[5];
     T *__restrict copy = a.copy, *__restrict b0 = a.bt[0], *__restrict b1 = a.bt[1], *__restrict b2 = a.bt[2];
+    T *__restrict g0 = a.g[0], *__restrict g1 = a.g[1], *__restrict g2 = a.g[2], *__restrict gc = a.g[3];
     const T h = a.h, h2 = a.h2;
     const bool compressionRule = a.compressionRule;
 CLOTH_IVDEP
@@ -525,13 +536,18 @@ CLOTH_IVDEP
         T J[6];
         jacobianOf(t, J);
         const T J0 = J[0], J1 = J[1], J2 = J[2], J3 = J[3], J4 = J[4], J5 = J[5];
-        const T scale = freeRow[p] * freeRow[p + d] * -h2;
+        const T mask = freeRow[p] * freeRow[p + d], scale = mask * -h2;
         o0[p] = scale * J0;
         o1[p] = scale * J1;
         o2[p] = scale * J2;
         o3[p] = scale * J3;
         o4[p] = scale * J4;
         o5[p] = scale * J5;
+        const T gs = mask * h * std::sqrt(t.b);
+        g0[p] = gs * t.ux;
+        g1[p] = gs * t.uy;
+        g2[p] = gs * t.uz;
+        gc[p] = mask * h2 * t.a;
         if constexpr (WithRhs) {
             const T q0 = T(v0[p + d] - v0[p]), q1 = T(v1[p + d] - v1[p]), q2 = T(v2[p + d] - v2[p]);
             b0[p] = h * t.fm * t.ux + h2 * (J0 * q0 + J1 * q1 + J2 * q2);
@@ -544,6 +560,55 @@ CLOTH_IVDEP
     for (int p = begin; p < end; ++p) {
         copy[6 * p] = o0[p], copy[6 * p + 1] = o1[p], copy[6 * p + 2] = o2[p];
         copy[6 * p + 3] = o3[p], copy[6 * p + 4] = o4[p], copy[6 * p + 5] = o5[p];
+    }
+}
+
+// y (tile of rows) += O x for the spring blocks O = -(c I + g g^T) (BandedSprings::spring) and x
+// (three arrays).
+template <class T>
+CLOTH_INLINE inline void addSpringTimes(const T* __restrict g0, const T* __restrict g1, const T* __restrict g2,
+                                        const T* __restrict c, const T* __restrict x0, const T* __restrict x1,
+                                        const T* __restrict x2, int count, T* __restrict y0, T* __restrict y1,
+                                        T* __restrict y2) {
+CLOTH_IVDEP
+    for (int t = 0; t < count; ++t) {
+        const T gx = g0[t] * x0[t] + g1[t] * x1[t] + g2[t] * x2[t];
+        y0[t] -= c[t] * x0[t] + gx * g0[t];
+        y1[t] -= c[t] * x1[t] + gx * g1[t];
+        y2[t] -= c[t] * x2[t] + gx * g2[t];
+    }
+}
+
+// bandedProduct for a banded level that carries a cloth: the diagonal band from W, the springs'
+// blocks from their compact arrays S (four numbers a block instead of six).
+template <class T>
+CLOTH_SIMD_CLONES void springBandProduct(const BlockMatrix<T>& W, const BandedSprings<T>& S, const T* X0, const T* X1,
+                                         const T* X2, const T* b, T* out, int begin, int end) {
+    alignas(64) T y0[kTile], y1[kTile], y2[kTile];
+    const std::size_t s = W.stride;
+    const T* D = W.values.data() + W.pad;
+    const int bands = int(S.offsets.size());
+    for (int first = begin; first < end; first += kTile) {
+        const int count = std::min(kTile, end - first);
+        std::fill(y0, y0 + count, T(0)), std::fill(y1, y1 + count, T(0)), std::fill(y2, y2 + count, T(0));
+        addBlockTimes(D + first, D + s + first, D + 2 * s + first, D + 3 * s + first, D + 4 * s + first,
+                      D + 5 * s + first, X0 + first, X1 + first, X2 + first, count, y0, y1, y2);
+        for (int k = 0; k < bands; ++k) {
+            const int o = S.offsets[k];
+            for (const int side : {1, -1}) {
+                const int row = first + (side > 0 ? 0 : -o), col = first + side * o;
+                addSpringTimes(S.sp(k, 0) + row, S.sp(k, 1) + row, S.sp(k, 2) + row, S.sp(k, 3) + row, X0 + col,
+                               X1 + col, X2 + col, count, y0, y1, y2);
+            }
+        }
+        T* o = out + 3 * std::size_t(first);
+        if (b) {
+            const T* bi = b + 3 * std::size_t(first);
+            for (int t = 0; t < count; ++t)
+                o[3 * t] = bi[3 * t] - y0[t], o[3 * t + 1] = bi[3 * t + 1] - y1[t], o[3 * t + 2] = bi[3 * t + 2] - y2[t];
+        } else {
+            for (int t = 0; t < count; ++t) o[3 * t] = y0[t], o[3 * t + 1] = y1[t], o[3 * t + 2] = y2[t];
+        }
     }
 }
 
@@ -1066,6 +1131,8 @@ void Multigrid<T>::Impl::useSprings(Level& L, const Model& cloth) {
     B.freeRow.assign(B.len(), T(0));
     B.btStride = spacedLength<T>(std::size_t(n + B.pad));
     B.bterm.assign(3 * std::size_t(bands) * B.btStride, T(0));
+    B.springStride = spacedLength<T>(std::size_t(n + B.pad));
+    B.spring.assign(4 * std::size_t(bands) * B.springStride, T(0));
 }
 
 template <class T>
@@ -1114,6 +1181,7 @@ void Multigrid<T>::Impl::assembleBanded(int l, const double* xs, const double* v
         for (int c = 0; c < 6; ++c) a.o[c] = A.values.data() + (6 * std::size_t(k + 1) + c) * A.stride + A.pad;
         a.copy = A.blocks.empty() ? nullptr : &A.blocks[6 * (std::size_t(n) + std::size_t(k) * n)];
         for (int c = 0; c < 3; ++c) a.bt[c] = B.bt(k, c);
+        for (int q = 0; q < 4; ++q) a.g[q] = B.sp(k, q);
         a.offset = B.offsets[k];
         a.h = h, a.h2 = h2;
         a.compressionRule = compressionRule;
@@ -1305,6 +1373,12 @@ void Multigrid<T>::Impl::roundFine(const typename Multigrid<double>::Impl& fine)
                 for (int i = begin; i < end; ++i) dst[i] = T(src[i]);
             }
             for (int i = begin; i < end; ++i) L.band.freeRow[L.band.pad + i] = T(F.band.freeRow[F.band.pad + i]);
+            for (int k = 0; k < int(L.band.offsets.size()); ++k)
+                for (int q = 0; q < 4; ++q) {
+                    const double* src = F.band.sp(k, q);
+                    T* dst = L.band.sp(k, q);
+                    for (int i = begin; i < end; ++i) dst[i] = T(src[i]);
+                }
         });
     } else {
         round(F.A.values, L.A.values);
@@ -1567,8 +1641,10 @@ void Multigrid<T>::Impl::product(int l, const std::vector<T>& x, const std::vect
             for (int a = 0; a < 3; ++a) X[a * L.xStride + i] = x[3 * std::size_t(i) + a];
     });
     const T* X = L.xs.data() + A.pad;
+    const bool springs = L.band.used();  // a cloth's level: its springs' blocks in compact form
     pool.run(A.n, [&](int begin, int end) {
-        bandedProduct(A, X, X + L.xStride, X + 2 * L.xStride, bp, out.data(), begin, end);
+        if (springs) springBandProduct(A, L.band, X, X + L.xStride, X + 2 * L.xStride, bp, out.data(), begin, end);
+        else bandedProduct(A, X, X + L.xStride, X + 2 * L.xStride, bp, out.data(), begin, end);
     });
 }
 
