@@ -154,6 +154,9 @@ std::vector<SolverKey> common(bool implicit) {
                                      "anti-stretch pass after the step: max stretch, 0.1 = 10% (0 = off)"));
     out.push_back(integer<SolverConfig>("strain_passes", &SolverConfig::strainLimitPasses, 1, 1000,
                                         "Gauss-Seidel passes of the anti-stretch pass"));
+    out.push_back(real<SolverConfig>("tether", &SolverConfig::tether, 0, 10, false, true,
+                                     "long-range attachments after the step: no particle farther from its nearest pin "
+                                     "than (1 + tether) times at rest (0 = off)"));
     return out;
 }
 

@@ -4,6 +4,8 @@
 //                       projection onto the surface and Coulomb friction written out
 //   PhysicsStrainLimit  Provot's correction for one spring by hand; the promises of
 //                       strain_limit.h (limit reached, pins still, momentum and centroid kept)
+//   PhysicsTethers      long-range attachments against each particle's nearest pin at rest,
+//                       found here by brute force; the move is radial and v changes by dx / h
 //   PhysicsChebyshev    Wang's Chebyshev recurrence run on the dense matrix with dense 3x3
 //                       block Jacobi
 //   PhysicsPins         the full 3n x 3n backward Euler system (springs, eq. 17, drag, damping,
@@ -21,6 +23,7 @@
 #include <cstdint>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
@@ -641,6 +644,95 @@ static StepInput stepInput(Scalar h, const std::vector<Pin>& pins, const Points*
     input.pins = pins;
     input.externalForce = external;
     return input;
+}
+
+// Long-range attachments, checked against each particle's nearest pin at rest, found here by
+// brute force over every pin.
+struct TetherCheck {
+    Index anchor;
+    Scalar rest;
+};
+std::vector<TetherCheck> nearestPins(const Model& model, const std::vector<Pin>& pins) {
+    std::vector<TetherCheck> out(model.particleCount(), {-1, 0});
+    for (Index i = 0; i < model.particleCount(); ++i) {
+        Scalar best = std::numeric_limits<Scalar>::infinity();
+        for (const Pin& p : pins) {
+            const Scalar d = (model.restPositions().col(i) - model.restPositions().col(p.particle)).norm();
+            if (d < best) best = d, out[i] = {p.particle, d};
+        }
+    }
+    return out;
+}
+
+void expectTethered(const Model& model, const std::vector<Pin>& pins, const State& before, const State& after,
+                    Scalar stretch, Scalar h) {
+    const std::vector<TetherCheck> near = nearestPins(model, pins);
+    int over = 0;
+    for (Index i = 0; i < model.particleCount(); ++i) {
+        const bool pinned = std::any_of(pins.begin(), pins.end(), [&](const Pin& p) { return p.particle == i; });
+        const Vec3 anchor = before.x.col(near[i].anchor);
+        const Scalar limit = (1 + stretch) * near[i].rest, was = (before.x.col(i) - anchor).norm();
+        EXPECT_EQ(after.x.col(near[i].anchor), anchor) << "pin " << near[i].anchor << " moved";
+        if (pinned || was <= limit) {
+            EXPECT_EQ(after.x.col(i), before.x.col(i)) << "particle " << i << " within its bound moved";
+            EXPECT_EQ(after.v.col(i), before.v.col(i)) << "particle " << i << " within its bound changed velocity";
+            continue;
+        }
+        ++over;
+        // Onto the sphere of radius limit around the anchor, along the line to the anchor.
+        const Vec3 r = after.x.col(i) - anchor, r0 = before.x.col(i) - anchor;
+        EXPECT_NEAR(r.norm(), limit, 1e-12) << "particle " << i;
+        EXPECT_LE((r - r0 * (limit / was)).norm(), 1e-12) << "particle " << i << " did not move radially";
+        const Vec3 dx = after.x.col(i) - before.x.col(i), dv = after.v.col(i) - before.v.col(i);
+        EXPECT_LE((dv - dx / h).norm(), 1e-9) << "particle " << i << ": velocity changed by " << dv.transpose();
+    }
+    EXPECT_GT(over, 0) << "no particle was over its bound: the test shows nothing";
+}
+
+TEST(PhysicsTethers, ParticlesOverTheirBoundMoveRadiallyOntoItAndTheRestStay) {
+    Cloth c = stretchedFlag(5);
+    const std::vector<Pin> column = pinColumn(c.model);
+    const Scalar stretch = 0.1, h = 1.0 / 240;
+    const State before = c.state;
+    Tethers tethers;
+    const int moved = tethers.apply(c.model, column, stretch, h, c.state);
+    EXPECT_GT(moved, 0);
+    expectTethered(c.model, column, before, c.state, stretch, h);
+
+    // Other pins (the last column, stretched away from the rest): the anchors follow them.
+    std::vector<Pin> last;
+    const Index nx = c.model.gridNx();
+    for (Index i = nx - 1; i < c.model.particleCount(); i += nx) last.push_back({i, before.x.col(i), Vec3::Zero()});
+    State again = before;
+    tethers.apply(c.model, last, stretch, h, again);
+    expectTethered(c.model, last, before, again, stretch, h);
+}
+
+TEST(PhysicsTethers, AStepWithTethersEndsWithinTheBoundAndOneWithoutDoesNot) {
+    // The paper's step on a flag whose pole jumps 0.5 m sideways: without tethers particles are
+    // left far beyond 10% of their distance to the pole; with them none is.
+    for (const std::string spec : {"kangcho:iterations=1", "exact", "explicit:substeps=4"}) {
+        HangingFlagDesc d;
+        d.nx = 9;
+        d.ny = 7;
+        HangingFlag flag = makeHangingFlag(d);
+        std::vector<Pin> pins = pinColumn(flag.model);
+        for (Pin& p : pins) p.x += Vec3(0, 0, 0.5);
+        const StepInput input = stepInput(1.0 / 240, pins, nullptr);
+        Scalar worst[2] = {0, 0};
+        for (int on = 0; on < 2; ++on) {
+            auto solver = solverFor(spec + (on ? (spec.find(':') == std::string::npos ? ":" : ",") + std::string("tether=0.1") : ""));
+            ASSERT_TRUE(solver);
+            State state = flag.state;
+            ASSERT_EQ(solver->step(flag.model, {}, state, input).status, StepStatus::Ok) << spec;
+            const std::vector<TetherCheck> near = nearestPins(flag.model, pins);
+            for (Index i = 0; i < flag.model.particleCount(); ++i)
+                if (near[i].rest > 0)
+                    worst[on] = std::max(worst[on], (state.x.col(i) - state.x.col(near[i].anchor)).norm() / near[i].rest);
+        }
+        EXPECT_GT(worst[0], 1.5) << spec << ": without tethers the jump should leave particles far behind";
+        EXPECT_LE(worst[1], 1.1 + 1e-12) << spec << ": with tether=0.1";
+    }
 }
 
 // =============================================================================================

@@ -11,8 +11,9 @@
 //   chebyshev  Jacobi with Chebyshev semi-iterative acceleration (Wang 2015)
 //   desbrun    Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once
 //   explicit   symplectic Euler with substeps
-// Every kind takes strain_limit= and strain_passes= (Provot's anti-stretch pass after the step),
-// and every implicit kind compression= (eq. 17).
+// Every kind takes strain_limit= and strain_passes= (Provot's anti-stretch pass after the step)
+// and tether= (long-range attachments after the step, strain_limit.h), and every implicit kind
+// compression= (eq. 17).
 // A step never throws and never hands back a non-finite state: on failure the state is left as
 // it was before the step and the status says why.
 
@@ -21,6 +22,7 @@
 #include <string_view>
 #include <variant>
 
+#include "cloth/strain_limit.h"
 #include "cloth/system.h"
 
 namespace cloth {
@@ -136,6 +138,7 @@ struct SolverConfig {
     bool compressionRule = true;  // implicit kinds: eq. 17 in the Jacobian
     double strainLimit = 0;       // any kind: Provot anti-stretch pass, max stretch (0 = off)
     int strainLimitPasses = 4;
+    double tether = 0;            // any kind: long-range attachments, max stretch to the anchor (0 = off)
     std::variant<KangChoSettings, ExactSettings, MultigridSettings, ChebyshevSettings, DesbrunSettings,
                  ExplicitSettings>
         settings;
@@ -199,6 +202,7 @@ protected:
     SolverConfig config_;
     StepProfile profile_;
     Points dv_;
+    Tethers tethers_;  // config_.tether's anchors, kept while the pins stay the same
 
     template <class T>
     friend std::unique_ptr<Solver> createSolver(const SolverConfig& config);

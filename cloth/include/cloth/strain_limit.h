@@ -9,11 +9,34 @@
 #include <vector>
 
 #include "cloth/model.h"
+#include "cloth/system.h"
 
 namespace cloth {
 
 // Returns the number of corrections applied. `pinned[i] != 0` marks particles that must not move.
 int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes,
                  Scalar h, State& state);
+
+// Long-range attachments (Kim, Chentanez & Mueller 2012, "Long range attachments - a method to
+// simulate inextensible clothing in computer games"), the stretch bound of game engines' cloth
+// (NvCloth's tethers, Jolt's long-range attachments). Each free particle's anchor is the pinned
+// particle nearest to it at rest; after a step, a particle farther from its anchor than
+// (1 + maxStretch) times their rest distance is moved straight back onto that sphere, its
+// velocity changed by its correction / h. One pass, each particle on its own: no particle waits
+// on another, so it costs a pass over the particles whatever the stretch, where the anti-stretch
+// pass's Gauss-Seidel chains need many passes to carry a correction across the cloth. It bounds
+// the distance to the pole, not a single spring's stretch.
+class Tethers {
+public:
+    // Anchors are found again (a pass over particles x pins) only when the pinned particles change.
+    // Returns the number of particles moved.
+    int apply(const Model& model, const std::vector<Pin>& pins, Scalar maxStretch, Scalar h, State& state);
+
+private:
+    std::vector<Index> pinned_;  // the pins' particles the anchors were found for
+    Index particles_ = -1;
+    std::vector<Index> free_, anchor_;
+    std::vector<Scalar> rest_;
+};
 
 }  // namespace cloth

@@ -13,14 +13,15 @@ const char* toString(StepStatus status) {
     return i < std::size(names) ? names[i] : "?";
 }
 
-StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, State& state,
-                  State& scratch, StepResult result) {
+StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, Tethers& tethers,
+                  State& state, State& scratch, StepResult result) {
     const Index n = static_cast<Index>(state.x.cols());
     for (const Pin& p : input.pins) {
         if (p.particle < 0 || p.particle >= n) continue;
         scratch.x.col(p.particle) = p.x;
         scratch.v.col(p.particle) = p.v;
     }
+    if (config.tether > 0 && scratch.x.allFinite()) tethers.apply(model, input.pins, config.tether, input.h, scratch);
     if (config.strainLimit > 0 && scratch.x.allFinite()) {
         static thread_local std::vector<std::uint8_t> pinned;
         pinned.assign(n, 0);
@@ -49,7 +50,7 @@ StepResult ImplicitSolver::step(const Model& model, const Environment& env, Stat
     const auto t0 = Clock::now();
     scratch_.v = state.v + dv_;
     scratch_.x = state.x + input.h * scratch_.v;
-    result = commit(model, config_, input, state, scratch_, result);
+    result = commit(model, config_, input, tethers_, state, scratch_, result);
     profile_.integrateMs = msSince(t0);
     return result;
 }

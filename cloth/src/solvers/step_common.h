@@ -15,9 +15,9 @@ inline double msSince(Clock::time_point t0) {
 
 // Writes the step's outcome `scratch` into `state`, or leaves `state` untouched when anything is
 // non-finite. Pinned particles land exactly on their targets with their target velocity; then
-// the optional anti-stretch pass (pinned particles stay put).
-StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, State& state,
-                  State& scratch, StepResult result);
+// the optional tethers and anti-stretch pass, in that order (pinned particles stay put).
+StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, Tethers& tethers,
+                  State& state, State& scratch, StepResult result);
 
 // Backward Euler step shape shared by every implicit solver: the system, dv, then v += dv,
 // x += h v. Subclasses supply dv.
