@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Turns Google Benchmark JSON into a markdown table (median of repetitions when present).
+"""Turns Google Benchmark JSON into a markdown table (median of repetitions when present), then
+the multigrid cost goals as ratios of medians from that same run (the swung pole, double).
 
     tools/bench_table.py out/bench/cloth_bench.json > out/bench/cloth_bench.md
 """
@@ -33,6 +34,46 @@ def main():
         iters = [b["iterations/step"] for b in bs if "iterations/step" in b]
         iters = f"{statistics.median(iters):.2f}" if iters else ""
         print(f"| {name} | {med('real_time'):.1f} | {med('cpu_time'):.1f} | {rate:.2f} | {iters} | {stretch:.4f} |")
+    goals(runs)
+
+
+# The cost goals of the multigrid solve, each against the paper's step of the same run and size.
+PAPER, ADAPTIVE, ONE_CYCLE = "swung_kangcho_fast_double", "swung_multigrid_adaptive_double", "swung_multigrid_1_cycle_double"
+
+
+def goals(runs):
+    def median_us(row, size):
+        bs = [b for name, group in runs.items() if name.startswith(f"stepFlag/{row}/{size}/") for b in group]
+        return statistics.median(b["real_time"] for b in bs) if bs else None
+
+    lines = []
+    for row, label, limit in ((ONE_CYCLE, "one cycle", 4), (ADAPTIVE, "adaptive default", 10)):
+        for size in (33, 129):
+            mg, paper = median_us(row, size), median_us(PAPER, size)
+            if mg and paper:
+                ratio = mg / paper
+                lines.append(f"| {label} / paper's step, {size}x{size} | {ratio:.2f}x | <= {limit}x | "
+                             f"{'yes' if ratio <= limit else 'no'} |")
+    for row, label in ((ADAPTIVE, "adaptive default"), (PAPER, "paper's step")):
+        small, large = median_us(row, 33), median_us(row, 257)
+        if small and large:
+            # particle-steps/s at 33x33 over those at 257x257 (per-particle cost, large over small)
+            fall = (large / 257**2) / (small / 33**2)
+            lines.append(f"| {label}: particle-steps/s, 33x33 over 257x257 | {fall:.2f}x | <= 1.5x | "
+                         f"{'yes' if fall <= 1.5 else 'no'} |")
+    small = [median_us(r, 33) for r in (ADAPTIVE, PAPER)]
+    large = [median_us(r, 257) for r in (ADAPTIVE, PAPER)]
+    if all(small) and all(large):
+        growth = (large[0] / large[1]) / (small[0] / small[1])
+        lines.append(f"| adaptive / paper's step at 257x257, over the same at 33x33 | {growth:.2f}x | <= 1.5x | "
+                     f"{'yes' if growth <= 1.5 else 'no'} |")
+    if lines:
+        print()
+        print("Multigrid cost goals (medians of this run, wall time):")
+        print()
+        print("| goal | measured | bound | met |")
+        print("|---|---:|---:|---|")
+        print("\n".join(lines))
 
 
 if __name__ == "__main__":
