@@ -721,7 +721,10 @@ TEST(PhysicsTethers, AStepWithTethersEndsWithinTheBoundAndOneWithoutDoesNot) {
         const StepInput input = stepInput(1.0 / 240, pins, nullptr);
         Scalar worst[2] = {0, 0};
         for (int on = 0; on < 2; ++on) {
-            auto solver = solverFor(spec + (on ? (spec.find(':') == std::string::npos ? ":" : ",") + std::string("tether=0.1") : ""));
+            std::string tethered = spec;
+            tethered += spec.find(':') == std::string::npos ? ':' : ',';
+            tethered += "tether=0.1";
+            auto solver = solverFor(on ? tethered : spec);
             ASSERT_TRUE(solver);
             State state = flag.state;
             ASSERT_EQ(solver->step(flag.model, {}, state, input).status, StepStatus::Ok) << spec;
