@@ -200,6 +200,18 @@ CLOTH_IVDEP
     }
 }
 
+// A tile of a product's rows, W x in three arrays, into out (interleaved): b - W x, or W x
+// without b.
+template <class T>
+CLOTH_INLINE inline void storeTile(const T* y0, const T* y1, const T* y2, int count, const T* b, T* out) {
+    if (b) {
+        for (int t = 0; t < count; ++t)
+            out[3 * t] = b[3 * t] - y0[t], out[3 * t + 1] = b[3 * t + 1] - y1[t], out[3 * t + 2] = b[3 * t + 2] - y2[t];
+    } else {
+        for (int t = 0; t < count; ++t) out[3 * t] = y0[t], out[3 * t + 1] = y1[t], out[3 * t + 2] = y2[t];
+    }
+}
+
 // out = b - W x (b given) or W x, rows [begin, end), for a banded W; x as three arrays X0, X1, X2
 // with W.pad zeros before and after.
 template <class T>
@@ -221,14 +233,7 @@ CLOTH_SIMD_CLONES void bandedProduct(const BlockMatrix<T>& W, const T* X0, const
                               B + 5 * s + row, X0 + col, X1 + col, X2 + col, count, y0, y1, y2);
             }
         }
-        T* o = out + 3 * std::size_t(first);
-        if (b) {
-            const T* bi = b + 3 * std::size_t(first);
-            for (int t = 0; t < count; ++t)
-                o[3 * t] = bi[3 * t] - y0[t], o[3 * t + 1] = bi[3 * t + 1] - y1[t], o[3 * t + 2] = bi[3 * t + 2] - y2[t];
-        } else {
-            for (int t = 0; t < count; ++t) o[3 * t] = y0[t], o[3 * t + 1] = y1[t], o[3 * t + 2] = y2[t];
-        }
+        storeTile(y0, y1, y2, count, b ? b + 3 * std::size_t(first) : nullptr, out + 3 * std::size_t(first));
     }
 }
 
@@ -601,14 +606,7 @@ CLOTH_SIMD_CLONES void springBandProduct(const BlockMatrix<T>& W, const BandedSp
                                X1 + col, X2 + col, count, y0, y1, y2);
             }
         }
-        T* o = out + 3 * std::size_t(first);
-        if (b) {
-            const T* bi = b + 3 * std::size_t(first);
-            for (int t = 0; t < count; ++t)
-                o[3 * t] = bi[3 * t] - y0[t], o[3 * t + 1] = bi[3 * t + 1] - y1[t], o[3 * t + 2] = bi[3 * t + 2] - y2[t];
-        } else {
-            for (int t = 0; t < count; ++t) o[3 * t] = y0[t], o[3 * t + 1] = y1[t], o[3 * t + 2] = y2[t];
-        }
+        storeTile(y0, y1, y2, count, b ? b + 3 * std::size_t(first) : nullptr, out + 3 * std::size_t(first));
     }
 }
 
