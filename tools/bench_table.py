@@ -47,26 +47,25 @@ def goals(runs):
         return statistics.median(b["real_time"] for b in bs) if bs else None
 
     lines = []
+
+    def goal(label, value, limit):
+        lines.append(f"| {label} | {value:.2f}x | <= {limit:g}x | {'yes' if value <= limit else 'no'} |")
+
     for row, label, limit in ((ONE_CYCLE, "one cycle", 4), (ADAPTIVE, "adaptive default", 10)):
         for size in (33, 129):
             mg, paper = median_us(row, size), median_us(PAPER, size)
             if mg and paper:
-                ratio = mg / paper
-                lines.append(f"| {label} / paper's step, {size}x{size} | {ratio:.2f}x | <= {limit}x | "
-                             f"{'yes' if ratio <= limit else 'no'} |")
+                goal(f"{label} / paper's step, {size}x{size}", mg / paper, limit)
     for row, label in ((ADAPTIVE, "adaptive default"), (PAPER, "paper's step")):
         small, large = median_us(row, 33), median_us(row, 257)
         if small and large:
             # particle-steps/s at 33x33 over those at 257x257 (per-particle cost, large over small)
-            fall = (large / 257**2) / (small / 33**2)
-            lines.append(f"| {label}: particle-steps/s, 33x33 over 257x257 | {fall:.2f}x | <= 1.5x | "
-                         f"{'yes' if fall <= 1.5 else 'no'} |")
+            goal(f"{label}: particle-steps/s, 33x33 over 257x257", (large / 257**2) / (small / 33**2), 1.5)
     small = [median_us(r, 33) for r in (ADAPTIVE, PAPER)]
     large = [median_us(r, 257) for r in (ADAPTIVE, PAPER)]
     if all(small) and all(large):
-        growth = (large[0] / large[1]) / (small[0] / small[1])
-        lines.append(f"| adaptive / paper's step at 257x257, over the same at 33x33 | {growth:.2f}x | <= 1.5x | "
-                     f"{'yes' if growth <= 1.5 else 'no'} |")
+        goal("adaptive / paper's step at 257x257, over the same at 33x33",
+             (large[0] / large[1]) / (small[0] / small[1]), 1.5)
     if lines:
         print()
         print("Multigrid cost goals (medians of this run, wall time):")
