@@ -7,43 +7,36 @@ namespace cloth {
 
 void addAirForces(const Model& model, const State& state, const AirParams& air, Points& f,
                   std::vector<Mat3>* velocityJacobian) {
-    const Scalar halfRho = Scalar(0.5) * air.density;
+    // With N = (b - a) x (c - a) (|N| = 2 A, n = N / |N|) and q = w . N (wn = q / |N|), the three
+    // terms of air.h add up to
+    //   F = rho / 4 [(c_d - c_f + c_l) s q / |N| N + (c_f s |N| - c_l q^2 / (|N| s)) w]
+    // with two square roots and one division, and no case on the side n faces: each term is even
+    // in n (wn n, wn^2 and n n^T do not change when n flips).
+    const Scalar quarterRho = Scalar(0.25) * air.density;
+    const Scalar normal = air.dragCoefficient - air.frictionCoefficient + air.liftCoefficient;
     if (velocityJacobian) velocityJacobian->assign(model.particleCount(), Mat3::Zero());
     for (const Triangle& t : model.triangles()) {
         const Vec3 a = state.x.col(t[0]), b = state.x.col(t[1]), c = state.x.col(t[2]);
-        const Vec3 cross = (b - a).cross(c - a);
-        const Scalar twiceArea = cross.norm();
-        if (twiceArea < 1e-14) continue;
-        const Scalar area = Scalar(0.5) * twiceArea;
-        Vec3 n = cross / twiceArea;
+        const Vec3 N = (b - a).cross(c - a);
         const Vec3 w = air.wind - (state.v.col(t[0]) + state.v.col(t[1]) + state.v.col(t[2])) / 3;
-        const Scalar s = w.norm();
-        if (s < 1e-9) continue;
-        Scalar wn = w.dot(n);
-        if (wn < 0) {  // orient n with the flow: the formulas below assume w . n >= 0
-            n = -n;
-            wn = -wn;
-        }
-        const Scalar cd = halfRho * area * air.dragCoefficient;
-        const Scalar cf = halfRho * area * air.frictionCoefficient;
-        const Scalar cl = halfRho * area * air.liftCoefficient;
-        const Vec3 tangential = w - wn * n;
-        Vec3 force = halfRho * area * s * (air.dragCoefficient * wn * n + air.frictionCoefficient * tangential);
-        // Lift: perpendicular to w in the plane of w and n; cos(theta) sin(theta) |w|^2 with theta
-        // the angle of attack. (Equal to c_l (wn s n - (wn^2 / s) w), the form differentiated below;
-        // written this way so that recorded runs keep their bits.)
-        const Vec3 liftDir = n - (wn / (s * s)) * w;
-        const Scalar liftNorm = liftDir.norm();
-        if (liftNorm > 1e-9) {
-            const Scalar sinA = wn / s, cosA = tangential.norm() / s;
-            force += halfRho * area * air.liftCoefficient * s * s * sinA * cosA * (liftDir / liftNorm);
-        }
-        const Vec3 share = force / 3;
+        const Scalar twiceArea = N.norm(), s = w.norm(), q = w.dot(N);
+        if (twiceArea < 1e-14 || s < 1e-9) continue;
+        const Scalar inv = 1 / (twiceArea * s);
+        const Vec3 share = (quarterRho / 3) * ((normal * s * s * q * inv) * N +
+                                               (air.frictionCoefficient * s * twiceArea -
+                                                air.liftCoefficient * q * q * inv) * w);
         f.col(t[0]) += share;
         f.col(t[1]) += share;
         f.col(t[2]) += share;
         if (!velocityJacobian) continue;
         // dF/dw with n fixed (n depends on x only): ds/dw = w^T / s, d(wn)/dw = n^T.
+        const Scalar halfRho = 2 * quarterRho, area = Scalar(0.5) * twiceArea;
+        const Scalar cd = halfRho * area * air.dragCoefficient;
+        const Scalar cf = halfRho * area * air.frictionCoefficient;
+        const Scalar cl = halfRho * area * air.liftCoefficient;
+        const Vec3 n = N / twiceArea;
+        const Scalar wn = w.dot(n);
+        const Vec3 tangential = w - wn * n;
         const Mat3 I = Mat3::Identity(), nn = n * n.transpose(), nw = n * w.transpose();
         const Mat3 dDrag = cd * ((wn / s) * nw + s * nn);
         const Mat3 dFriction = cf * (tangential * w.transpose() / s + s * (I - nn));
