@@ -12,7 +12,7 @@ namespace cloth {
 
 class KangChoLayout {
 public:
-    explicit KangChoLayout(int threads) : pool_(threads) {}
+    explicit KangChoLayout(ThreadPool& pool) : pool_(pool) {}
     virtual ~KangChoLayout() = default;
     // dv (3 x n, double; pinned particles get their prescribed change). forcesMs: the time spent
     // building the system.
@@ -20,7 +20,7 @@ public:
                        bool compressionRule, int iterations, Points& dv, double* forcesMs) = 0;
 
 protected:
-    ThreadPool pool_;
+    ThreadPool& pool_;  // the solver's
     std::uint64_t modelId_ = 0;  // the model the layout was prepared for
 };
 

@@ -1935,7 +1935,8 @@ void Multigrid<T>::Impl::conjugateGradients(double bNorm, MultigridStats& stats)
 }
 
 template <class T>
-Multigrid<T>::Multigrid(const MultigridSettings& settings) : impl_(std::make_unique<Impl>(settings)) {}
+Multigrid<T>::Multigrid(const MultigridSettings& settings, std::shared_ptr<ThreadPool> pool)
+    : impl_(std::make_unique<Impl>(settings, std::move(pool))) {}
 
 template <class T>
 Multigrid<T>::~Multigrid() = default;

@@ -114,7 +114,8 @@ struct BlockMatrix {
 template <class T>
 class Multigrid {
 public:
-    explicit Multigrid(const MultigridSettings& settings);  // settings.threads: worker threads
+    // Worker threads: `pool`, or (null) a pool of settings.threads of its own.
+    explicit Multigrid(const MultigridSettings& settings, std::shared_ptr<ThreadPool> pool = nullptr);
     ~Multigrid();
 
     // Builds the system at `state` and solves it; dv gets the pinned particles' prescribed change.

@@ -30,7 +30,7 @@ template <class T>
 class StencilKangCho final : public KangChoLayout {
 public:
     // offsets: springFamilies(model) of the model it will step, not empty.
-    StencilKangCho(int threads, std::vector<int> offsets) : KangChoLayout(threads), offsets_(std::move(offsets)) {}
+    StencilKangCho(ThreadPool& pool, std::vector<int> offsets) : KangChoLayout(pool), offsets_(std::move(offsets)) {}
     void solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
                bool compressionRule, int iterations, Points& dv, double* forcesMs) override;
 

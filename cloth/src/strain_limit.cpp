@@ -1,31 +1,61 @@
 #include "cloth/strain_limit.h"
 
+#include <atomic>
 #include <cmath>
 
 namespace cloth {
 
 int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes,
-                 Scalar h, State& state) {
+                 Scalar h, State& state, ThreadPool* pool) {
     const auto& mass = model.masses();
-    int corrections = 0;
-    for (int pass = 0; pass < passes; ++pass) {
-        int thisPass = 0;
-        for (const Spring& s : model.springs()) {
-            const Vec3 d = state.x.col(s.j) - state.x.col(s.i);
+    const auto& springs = model.colouredSprings();
+    const auto& start = model.colourStart();
+    // Springs [begin, end) of one colour; returns the corrections.
+    Scalar* x = state.x.data();
+    Scalar* v = state.v.data();
+    const Scalar* m = mass.data();
+    const std::uint8_t* fixed = pinned.data();
+    const Spring* spring = springs.data();
+    auto correct = [=](Index begin, Index end) {
+        int count = 0;
+        for (Index k = begin; k < end; ++k) {
+            const Spring& s = spring[k];
+            Scalar *xi = x + 3 * std::size_t(s.i), *xj = x + 3 * std::size_t(s.j);
+            const Scalar dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
             // Most springs are within the limit: decide on squared lengths, without a square root
             // (a spring over by a rounding error of the square may be skipped: a correction of ulps).
-            const Scalar limit = (1 + maxStretch) * s.rest, L2 = d.squaredNorm();
+            const Scalar limit = (1 + maxStretch) * s.rest, L2 = dx * dx + dy * dy + dz * dz;
             if (L2 <= limit * limit || L2 < Scalar(1e-24)) continue;
             const Scalar L = std::sqrt(L2);
             if (L <= limit) continue;
-            const Scalar wi = pinned[s.i] ? 0 : 1 / mass[s.i], wj = pinned[s.j] ? 0 : 1 / mass[s.j];
+            const Scalar wi = fixed[s.i] ? 0 : 1 / m[s.i], wj = fixed[s.j] ? 0 : 1 / m[s.j];
             if (wi + wj == 0) continue;
-            const Vec3 corr = (L - limit) / (L * (wi + wj)) * d;  // total shortening, split by 1/m
-            state.x.col(s.i) += wi * corr;
-            state.x.col(s.j) -= wj * corr;
-            state.v.col(s.i) += (wi / h) * corr;
-            state.v.col(s.j) -= (wj / h) * corr;
-            ++thisPass;
+            const Scalar f = (L - limit) / (L * (wi + wj));  // total shortening, split by 1/m
+            const Scalar cx = f * dx, cy = f * dy, cz = f * dz, ai = wi / h, aj = wj / h;
+            Scalar *vi = v + 3 * std::size_t(s.i), *vj = v + 3 * std::size_t(s.j);
+            xi[0] += wi * cx, xi[1] += wi * cy, xi[2] += wi * cz;
+            xj[0] -= wj * cx, xj[1] -= wj * cy, xj[2] -= wj * cz;
+            vi[0] += ai * cx, vi[1] += ai * cy, vi[2] += ai * cz;
+            vj[0] -= aj * cx, vj[1] -= aj * cy, vj[2] -= aj * cz;
+            ++count;
+        }
+        return count;
+    };
+    // A colour is split among the pool's threads when each gets enough springs to outweigh the
+    // hand-over; the split never changes a bit, since no two springs of a colour share a particle.
+    constexpr Index kMinSpringsPerThread = 2048;
+    int corrections = 0;
+    for (int pass = 0; pass < passes; ++pass) {
+        int thisPass = 0;
+        for (std::size_t c = 0; c + 1 < start.size(); ++c) {
+            const Index begin = start[c], size = start[c + 1] - begin;
+            if (!pool || pool->threads() < 2 || size < kMinSpringsPerThread * pool->threads()) {
+                thisPass += correct(begin, begin + size);
+                continue;
+            }
+            std::atomic<int> count{0};
+            pool->run(size, [&](int b, int e) { count += correct(begin + b, begin + e); });
+            thisPass += count;
         }
         corrections += thisPass;
         if (thisPass == 0) break;

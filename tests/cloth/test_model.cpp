@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
+#include <tuple>
+#include <vector>
 
 #include "cloth/diagnostics.h"
 #include "cloth/model.h"
@@ -43,6 +47,50 @@ TEST(Model, MeshSpringsFromEdgesAndBendsAcrossInteriorEdges) {
     EXPECT_EQ(structural, 5);
     EXPECT_EQ(bend, 1);
     EXPECT_NEAR(m.totalMass(), 1.0, 1e-12);
+}
+
+// The anti-stretch pass's colours, checked by brute force: every spring exactly once, and no two
+// springs of a colour sharing a particle (the pass corrects a colour's springs in any order, and
+// splits it among threads, on that promise).
+void expectProperColouring(const Model& m, const char* what) {
+    ASSERT_EQ(m.colouredSprings().size(), m.springs().size()) << what;
+    ASSERT_EQ(m.colourStart().back(), m.springCount()) << what;
+    auto key = [](const Spring& s) { return std::tuple(s.i, s.j, int(s.kind), s.k, s.rest); };
+    std::vector<std::tuple<Index, Index, int, Scalar, Scalar>> a, b;
+    for (const Spring& s : m.springs()) a.push_back(key(s));
+    for (const Spring& s : m.colouredSprings()) b.push_back(key(s));
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    EXPECT_EQ(a, b) << what << ": the coloured springs are not the springs";
+    for (std::size_t c = 0; c + 1 < m.colourStart().size(); ++c) {
+        std::vector<int> seen(m.particleCount(), 0);
+        for (Index k = m.colourStart()[c]; k < m.colourStart()[c + 1]; ++k) {
+            const Spring& s = m.colouredSprings()[k];
+            for (const Index p : {s.i, s.j})
+                EXPECT_EQ(seen[p]++, 0) << what << ": particle " << p << " twice in colour " << c;
+        }
+    }
+}
+
+TEST(Model, SpringColoursCoverEverySpringOnceAndShareNoParticle) {
+    GridDesc g;
+    g.nx = 9;
+    g.ny = 7;
+    const Model grid = Model::fromGrid(g);
+    expectProperColouring(grid, "9x7 grid");
+    // Greedy in spring order gives a grid 12 colours (a particle has 12 springs, so no fewer).
+    EXPECT_EQ(grid.colourStart().size() - 1, 12u);
+    // A fan: one vertex in 8 triangles, so 8 structural springs meet there.
+    Points x(3, 9);
+    x.col(0) = Vec3::Zero();
+    std::vector<Triangle> fan;
+    for (int k = 0; k < 8; ++k) {
+        x.col(k + 1) = Vec3(std::cos(k * M_PI / 4), std::sin(k * M_PI / 4), 0);
+        fan.push_back({0, k + 1, (k + 1) % 8 + 1});
+    }
+    const Model mesh = Model::fromMesh(x, fan, 1.0, {10, 0, 2});
+    expectProperColouring(mesh, "fan");
+    EXPECT_GE(mesh.colourStart().size() - 1, 8u);
 }
 
 TEST(Model, BadInputNamesFieldAndValue) {

@@ -36,6 +36,7 @@
 #include "cloth/solver.h"
 #include "cloth/strain_limit.h"
 #include "cloth/system.h"
+#include "cloth/thread_pool.h"
 
 #ifndef FLAGSIM_TEST_DATA_DIR
 #error "FLAGSIM_TEST_DATA_DIR must name the directory of golden_hashes.txt (tests/CMakeLists.txt)"
@@ -636,6 +637,30 @@ TEST(PhysicsStrainLimit, WithoutPinsMomentumAndMassMomentAreKept) {
         << "momentum before " << p0.transpose() << ", after " << linearMomentum(c.model, c.state).transpose();
     EXPECT_LE((massMoment(c.model, c.state) - moment0).norm(), 1e-12 * c.model.totalMass())
         << "sum m x before " << moment0.transpose() << ", after " << massMoment(c.model, c.state).transpose();
+}
+
+TEST(PhysicsStrainLimit, ThreadsSplitEachColourWithTheSameBits) {
+    // 129 x 129: colours of about 8,000 springs, which the pass splits between two threads.
+    HangingFlagDesc d;
+    d.nx = d.ny = 129;
+    HangingFlag flag = makeHangingFlag(d);
+    std::mt19937 rng(3);
+    const Scalar spacing = d.width / (d.nx - 1);
+    for (Index i = 0; i < flag.model.particleCount(); ++i) {
+        if (i % d.nx == 0) continue;
+        flag.state.x(0, i) = d.poleTop.x() + 1.3 * (flag.state.x(0, i) - d.poleTop.x());
+        flag.state.x.col(i) += randomVec(rng, -0.2 * spacing, 0.2 * spacing);
+    }
+    std::vector<std::uint8_t> pinned(flag.model.particleCount(), 0);
+    for (const Pin& p : flag.pins) pinned[p.particle] = 1;
+    ThreadPool one(1), two(2);
+    State serial = flag.state, split = flag.state;
+    const int a = limitStretch(flag.model, pinned, 0.1, 4, 1.0 / 240, serial, &one);
+    const int b = limitStretch(flag.model, pinned, 0.1, 4, 1.0 / 240, split, &two);
+    EXPECT_GT(a, 10000) << "the pass should have work to split";
+    EXPECT_EQ(a, b);
+    EXPECT_TRUE(serial.x == split.x && serial.v == split.v) << "two threads changed bits: max |dx| "
+                                                           << (serial.x - split.x).cwiseAbs().maxCoeff();
 }
 
 static StepInput stepInput(Scalar h, const std::vector<Pin>& pins, const Points* external) {

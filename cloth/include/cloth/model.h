@@ -72,6 +72,15 @@ public:
     const std::vector<Index>& adjSpring() const { return adjSpring_; }
     const std::vector<Index>& adjOther() const { return adjOther_; }
 
+    // The springs by colour, the anti-stretch pass's order (strain_limit.h): no two springs of one
+    // colour share a particle, so a colour's springs can be corrected in any order, or at once,
+    // with the same bits. Colour c is colouredSprings()[colourStart()[c] .. colourStart()[c + 1]),
+    // copies of springs() in their order there. A greedy colouring in spring order (each spring
+    // takes the lowest colour free at both ends): 12 colours on a grid, at most 2 d - 1 for a
+    // largest degree d.
+    const std::vector<Index>& colourStart() const { return colourStart_; }
+    const std::vector<Spring>& colouredSprings() const { return colouredSprings_; }
+
     Scalar totalMass() const;
     // Identity for solver caches: every model built gets its own id; a copy shares it (a Model
     // never changes once built). Unlike an address, an id is never reused.
@@ -80,12 +89,15 @@ public:
 private:
     Model(Points rest, std::vector<Triangle> triangles, std::vector<Spring> springs, Scalar totalMass);
     void buildAdjacency();
+    void colourSprings();
 
     Points rest_;
     std::vector<Triangle> triangles_;
     std::vector<Spring> springs_;
     std::vector<Scalar> mass_;
     std::vector<Index> adjStart_, adjSpring_, adjOther_;
+    std::vector<Index> colourStart_;
+    std::vector<Spring> colouredSprings_;
     int nx_ = 0, ny_ = 0;
     std::uint64_t id_ = 0;
 };

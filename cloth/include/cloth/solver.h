@@ -194,6 +194,10 @@ public:
     const Points& lastDv() const { return dv_; }
     // What the solver chose at run time, if anything (multigrid: its levels), for logs.
     virtual std::string details() const { return {}; }
+    // The worker threads of the kind's threads= setting (one thread: no workers). The step, its
+    // post-step corrections and a caller's own per-step work (the engine's air) share them: two
+    // pools would spin against each other on the same cores.
+    ThreadPool& threadPool() const { return *pool_; }
 
 protected:
     Solver() = default;  // solvers are made by makeSolver, which sets config_ first
@@ -203,16 +207,21 @@ protected:
     StepProfile profile_;
     Points dv_;
     Tethers tethers_;  // config_.tether's anchors, kept while the pins stay the same
+    std::shared_ptr<ThreadPool> pool_;
 
     template <class T>
     friend std::unique_ptr<Solver> createSolver(const SolverConfig& config);
 };
+
+// The threads= setting of the config's kind (1 for the kinds without one).
+int threadsOf(const SolverConfig& config);
 
 // A solver of class T holding `config` (used by the solver table's factories).
 template <class T>
 std::unique_ptr<Solver> createSolver(const SolverConfig& config) {
     std::unique_ptr<Solver> solver(new T());
     solver->config_ = config;
+    solver->pool_ = std::make_shared<ThreadPool>(threadsOf(config));
     return solver;
 }
 

@@ -2,20 +2,22 @@
 // Anti-stretch: strain limiting in the manner of Provot 1995 ("Deformation constraints in a
 // mass-spring model to describe rigid cloth behavior"). After a step, every spring stretched
 // beyond (1 + maxStretch) times its rest length has its ends pulled together to that length
-// (split by inverse mass; pinned ends do not move), for a few Gauss-Seidel passes in spring order
-// (deterministic). The velocity of each moved particle changes by its correction / h, so the
+// (split by inverse mass; pinned ends do not move), for a few Gauss-Seidel passes over the
+// springs by colour (Model::colouredSprings(): no two springs of a colour share a particle, so a
+// colour can be split among threads, with the same bits for any thread count). The velocity of each moved particle changes by its correction / h, so the
 // constraint also removes the stretching velocity.
 
 #include <vector>
 
 #include "cloth/model.h"
 #include "cloth/system.h"
+#include "cloth/thread_pool.h"
 
 namespace cloth {
 
 // Returns the number of corrections applied. `pinned[i] != 0` marks particles that must not move.
 int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes,
-                 Scalar h, State& state);
+                 Scalar h, State& state, ThreadPool* pool = nullptr);
 
 // Long-range attachments (Kim, Chentanez & Mueller 2012, "Long range attachments - a method to
 // simulate inextensible clothing in computer games"), the stretch bound of game engines' cloth

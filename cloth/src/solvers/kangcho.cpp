@@ -14,9 +14,9 @@ namespace {
 
 // The stencil layout when the model's springs form a few constant offsets, else the gather.
 template <class T>
-std::unique_ptr<KangChoLayout> layoutFor(int threads, std::vector<int> offsets) {
-    if (!offsets.empty()) return std::make_unique<StencilKangCho<T>>(threads, std::move(offsets));
-    return std::make_unique<FastKangCho<T>>(threads);
+std::unique_ptr<KangChoLayout> layoutFor(ThreadPool& pool, std::vector<int> offsets) {
+    if (!offsets.empty()) return std::make_unique<StencilKangCho<T>>(pool, std::move(offsets));
+    return std::make_unique<FastKangCho<T>>(pool);
 }
 
 class KangChoSolver final : public ImplicitSolver {
@@ -34,8 +34,8 @@ class KangChoSolver final : public ImplicitSolver {
         if (model.id() != modelId_) {  // choose the layout once per model
             modelId_ = model.id();
             std::vector<int> offsets = s.impl == KangChoSettings::Impl::Fast ? springFamilies(model) : std::vector<int>();
-            layout_ = s.singlePrecision ? layoutFor<float>(s.threads, std::move(offsets))
-                                        : layoutFor<double>(s.threads, std::move(offsets));
+            layout_ = s.singlePrecision ? layoutFor<float>(*pool_, std::move(offsets))
+                                        : layoutFor<double>(*pool_, std::move(offsets));
         }
         layout_->solve(model, env, state, input, config_.compressionRule, s.iterations, dv_, &profile_.forcesMs);
         profile_.solveMs = msSince(t0) - profile_.forcesMs;

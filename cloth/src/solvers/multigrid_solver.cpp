@@ -35,8 +35,8 @@ private:
                    StepResult& result) override {
         if (!float_ && !double_) {
             const MultigridSettings s = multigridSettings();
-            if (s.singlePrecision) float_ = std::make_unique<Multigrid<float>>(s);
-            else double_ = std::make_unique<Multigrid<double>>(s);
+            if (s.singlePrecision) float_ = std::make_unique<Multigrid<float>>(s, pool_);
+            else double_ = std::make_unique<Multigrid<double>>(s, pool_);
         }
         MultigridStats stats;
         const auto t0 = Clock::now();

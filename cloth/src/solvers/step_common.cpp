@@ -13,8 +13,14 @@ const char* toString(StepStatus status) {
     return i < std::size(names) ? names[i] : "?";
 }
 
+int threadsOf(const SolverConfig& config) {
+    if (const auto* k = std::get_if<KangChoSettings>(&config.settings)) return k->threads;
+    if (const auto* m = std::get_if<MultigridSettings>(&config.settings)) return m->threads;
+    return 1;
+}
+
 StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, Tethers& tethers,
-                  State& state, State& scratch, StepResult result) {
+                  ThreadPool& pool, State& state, State& scratch, StepResult result) {
     const Index n = static_cast<Index>(state.x.cols());
     for (const Pin& p : input.pins) {
         if (p.particle < 0 || p.particle >= n) continue;
@@ -30,7 +36,7 @@ StepResult commit(const Model& model, const SolverConfig& config, const StepInpu
         pinned.assign(n, 0);
         for (const Pin& p : input.pins)
             if (p.particle >= 0 && p.particle < n) pinned[p.particle] = 1;
-        limitStretch(model, pinned, config.strainLimit, config.strainLimitPasses, input.h, scratch);
+        limitStretch(model, pinned, config.strainLimit, config.strainLimitPasses, input.h, scratch, &pool);
     }
     const Index bad = firstNonFinite(scratch);
     if (bad >= 0) {
@@ -53,7 +59,7 @@ StepResult ImplicitSolver::step(const Model& model, const Environment& env, Stat
     const auto t0 = Clock::now();
     scratch_.v = state.v + dv_;
     scratch_.x = state.x + input.h * scratch_.v;
-    result = commit(model, config_, input, tethers_, state, scratch_, result);
+    result = commit(model, config_, input, tethers_, *pool_, state, scratch_, result);
     profile_.integrateMs = msSince(t0);
     return result;
 }

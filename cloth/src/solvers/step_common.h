@@ -17,7 +17,7 @@ inline double msSince(Clock::time_point t0) {
 // non-finite. Pinned particles land exactly on their targets with their target velocity; then
 // the optional tethers and anti-stretch pass, in that order (pinned particles stay put).
 StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, Tethers& tethers,
-                  State& state, State& scratch, StepResult result);
+                  ThreadPool& pool, State& state, State& scratch, StepResult result);
 
 // Backward Euler step shape shared by every implicit solver: the system, dv, then v += dv,
 // x += h v. Subclasses supply dv.
