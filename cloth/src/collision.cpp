@@ -1,6 +1,7 @@
 #include "cloth/collision.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -88,7 +89,7 @@ Scalar distanceLowerBound(const Collider& c, const Vec3& lo, const Vec3& hi) {
 }  // namespace
 
 int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
-                      const std::vector<std::uint8_t>* pinnedFlags, State& state) {
+                      const std::vector<std::uint8_t>* pinnedFlags, State& state, ThreadPool* pool) {
     const Index count = static_cast<Index>(state.x.cols());
     // Broad phase: a collider that cannot reach the box around the free particles is skipped for
     // every particle that no earlier collider moved (a moved particle may have left the box).
@@ -107,20 +108,27 @@ int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
         for (std::size_t c = 0; c < colliders.size(); ++c)
             far[c] = distanceLowerBound(colliders[c], lo, hi) - thickness > 1e-9 * (boxScale + colliders[c].center.norm());
     }
-    int moved = 0;
-    for (Index i = 0; i < count; ++i) {
-        if (pinnedFlags && (*pinnedFlags)[i]) continue;
-        bool hit = false;
-        for (std::size_t k = 0; k < colliders.size(); ++k) {
-            if (far[k] && !hit) continue;
-            Vec3 x = state.x.col(i), v = state.v.col(i);
-            if (!collideParticle(colliders[k], thickness, x, v)) continue;
-            state.x.col(i) = x;
-            state.v.col(i) = v;
-            hit = true;
+    const std::uint8_t* skip = far.data();
+    auto collide = [&](int begin, int end) {
+        int moved = 0;
+        for (Index i = begin; i < end; ++i) {
+            if (pinnedFlags && (*pinnedFlags)[i]) continue;
+            bool hit = false;
+            for (std::size_t k = 0; k < colliders.size(); ++k) {
+                if (skip[k] && !hit) continue;
+                Vec3 x = state.x.col(i), v = state.v.col(i);
+                if (!collideParticle(colliders[k], thickness, x, v)) continue;
+                state.x.col(i) = x;
+                state.v.col(i) = v;
+                hit = true;
+            }
+            moved += hit;
         }
-        moved += hit;
-    }
+        return moved;
+    };
+    if (!pool) return collide(0, count);
+    std::atomic<int> moved{0};
+    pool->run(count, [&](int begin, int end) { moved += collide(begin, end); });
     return moved;
 }
 

@@ -198,6 +198,14 @@ void Model::buildAdjacency() {
         adjSpring_[fill[sp.j]] = s;
         adjOther_[fill[sp.j]++] = sp.i;
     }
+    triStart_.assign(n + 1, 0);
+    for (const Triangle& t : triangles_)
+        for (const Index p : t) ++triStart_[p + 1];
+    for (Index p = 0; p < n; ++p) triStart_[p + 1] += triStart_[p];
+    triOf_.resize(triStart_[n]);
+    fill.assign(triStart_.begin(), triStart_.end() - 1);
+    for (std::size_t t = 0; t < triangles_.size(); ++t)
+        for (const Index p : triangles_[t]) triOf_[fill[p]++] = Index(t);
 }
 
 void Model::colourSprings() {

@@ -63,7 +63,8 @@ int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Sc
     return corrections;
 }
 
-int Tethers::apply(const Model& model, const std::vector<Pin>& pins, Scalar maxStretch, Scalar h, State& state) {
+int Tethers::apply(const Model& model, const std::vector<Pin>& pins, Scalar maxStretch, Scalar h, State& state,
+                   ThreadPool* pool) {
     const Index n = model.particleCount();
     std::vector<Index> pinned;
     pinned.reserve(pins.size());
@@ -87,17 +88,23 @@ int Tethers::apply(const Model& model, const std::vector<Pin>& pins, Scalar maxS
             free_.push_back(i), anchor_.push_back(best), rest_.push_back(std::sqrt(best2));
         }
     }
-    int moved = 0;
-    for (std::size_t k = 0; k < free_.size(); ++k) {
-        const Index i = free_[k];
-        const Vec3 d = state.x.col(i) - state.x.col(anchor_[k]);
-        const Scalar limit = (1 + maxStretch) * rest_[k], L2 = d.squaredNorm();
-        if (L2 <= limit * limit) continue;  // most particles: no square root
-        const Vec3 corr = (limit / std::sqrt(L2) - 1) * d;
-        state.x.col(i) += corr;
-        state.v.col(i) += corr / h;
-        ++moved;
-    }
+    auto pull = [&](int begin, int end) {
+        int moved = 0;
+        for (int k = begin; k < end; ++k) {
+            const Index i = free_[k];
+            const Vec3 d = state.x.col(i) - state.x.col(anchor_[k]);
+            const Scalar limit = (1 + maxStretch) * rest_[k], L2 = d.squaredNorm();
+            if (L2 <= limit * limit) continue;  // most particles: no square root
+            const Vec3 corr = (limit / std::sqrt(L2) - 1) * d;
+            state.x.col(i) += corr;
+            state.v.col(i) += corr / h;
+            ++moved;
+        }
+        return moved;
+    };
+    if (!pool) return pull(0, int(free_.size()));
+    std::atomic<int> moved{0};
+    pool->run(int(free_.size()), [&](int begin, int end) { moved += pull(begin, end); });
     return moved;
 }
 

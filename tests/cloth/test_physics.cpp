@@ -462,6 +462,28 @@ TEST(PhysicsAir, ForcesEqualTheDocumentedPerTriangleFormula) {
     }
 }
 
+TEST(PhysicsAir, TwoThreadsGiveTheBitsOfOne) {
+    // The forces and their velocity Jacobian on a moving 33 x 33 flag; the formula itself is
+    // checked above, on one thread.
+    HangingFlag flag = makeHangingFlag(HangingFlagDesc{});
+    std::mt19937 rng(4);
+    for (Index i = 0; i < flag.model.particleCount(); ++i) {
+        flag.state.x.col(i) += randomVec(rng, -0.01, 0.01);
+        flag.state.v.col(i) = randomVec(rng, -3, 3);
+    }
+    AirParams air;
+    air.wind = Vec3(6, 1, -2);
+    const Points start = randomPoints(flag.model.particleCount(), 0.01, 4);
+    Points one = start, split = start;
+    std::vector<Mat3> jOne, jSplit;
+    ThreadPool two(2);
+    addAirForces(flag.model, flag.state, air, one, &jOne);
+    addAirForces(flag.model, flag.state, air, split, &jSplit, &two);
+    EXPECT_GT((one - start).norm(), 1e-3) << "the air should push the flag";
+    EXPECT_TRUE(one == split) << "max |df| " << (one - split).cwiseAbs().maxCoeff();
+    for (std::size_t i = 0; i < jOne.size(); ++i) ASSERT_TRUE(jOne[i] == jSplit[i]) << "df/dv of particle " << i;
+}
+
 TEST(PhysicsAir, NoForceWhenTheAirMovesWithTheCloth) {
     for (const Model& model : airModels()) {
         std::mt19937 rng(7);
@@ -731,6 +753,12 @@ TEST(PhysicsTethers, ParticlesOverTheirBoundMoveRadiallyOntoItAndTheRestStay) {
     State again = before;
     tethers.apply(c.model, last, stretch, h, again);
     expectTethered(c.model, last, before, again, stretch, h);
+
+    // The particles split between two threads.
+    ThreadPool two(2);
+    State split = before;
+    EXPECT_EQ(tethers.apply(c.model, column, stretch, h, split, &two), moved);
+    expectTethered(c.model, column, before, split, stretch, h);
 }
 
 TEST(PhysicsTethers, AStepWithTethersEndsWithinTheBoundAndOneWithoutDoesNot) {
@@ -992,7 +1020,13 @@ TEST(PhysicsCollision, SkippingCollidersFarFromTheClothChangesNothing) {
                                                              reference.x(2, i) <= 1.04 - thickness + 1e-12;
     ASSERT_GT(pushedIntoTheTopPlane, 0) << "the ball should push some particles up against the top plane";
 
+    // Alone, and with the particles split between two threads.
+    ThreadPool two(2);
+    State split = state;
     EXPECT_EQ(resolveCollisions(colliders, thickness, &pinned, state), movedReference);
     EXPECT_TRUE(state.x == reference.x && state.v == reference.v)
         << "max |dx| " << (state.x - reference.x).cwiseAbs().maxCoeff();
+    EXPECT_EQ(resolveCollisions(colliders, thickness, &pinned, split, &two), movedReference);
+    EXPECT_TRUE(split.x == reference.x && split.v == reference.v)
+        << "two threads: max |dx| " << (split.x - reference.x).cwiseAbs().maxCoeff();
 }

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "cloth/model.h"
+#include "cloth/thread_pool.h"
 
 namespace cloth {
 
@@ -35,8 +36,9 @@ struct AirParams {
 // Adds the air forces to f (3 x n). With velocityJacobian non-null, also sets
 // (*velocityJacobian)[i] = df_i/dv_i (the exact diagonal blocks of the force's velocity
 // derivative, resized to n).
+// The work is split among `pool`'s threads when given (the same bits for any count).
 void addAirForces(const Model& model, const State& state, const AirParams& air, Points& f,
-                  std::vector<Mat3>* velocityJacobian = nullptr);
+                  std::vector<Mat3>* velocityJacobian = nullptr, ThreadPool* pool = nullptr);
 
 // The part of -dfdv that enters W: the symmetric part of -dfdv with its negative eigenvalues
 // clamped to zero.

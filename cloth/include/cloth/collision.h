@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cloth/model.h"
+#include "cloth/thread_pool.h"
 
 namespace cloth {
 
@@ -30,9 +31,10 @@ bool collideParticle(const Collider& c, Scalar thickness, Vec3& x, Vec3& v);
 // collideParticle for every particle and collider, particle by particle, colliders in order.
 // Pinned particles (flags[i] != 0) are left alone. Returns the number of particles moved (a
 // particle inside two colliders counts once). A collider that cannot reach the bounding box of
-// the free particles is skipped (same results, tested against the loop over every pair).
+// the free particles is skipped (same results, tested against the loop over every pair). The
+// particles are split among `pool`'s threads when given (each particle on its own: the same bits).
 int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
-                      const std::vector<std::uint8_t>* pinnedFlags, State& state);
+                      const std::vector<std::uint8_t>* pinnedFlags, State& state, ThreadPool* pool = nullptr);
 
 // Signed distance from p to the collider's surface (negative inside).
 Scalar signedDistance(const Collider& c, const Vec3& p, Vec3* normal);

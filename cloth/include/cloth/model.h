@@ -71,6 +71,9 @@ public:
     const std::vector<Index>& adjStart() const { return adjStart_; }
     const std::vector<Index>& adjSpring() const { return adjSpring_; }
     const std::vector<Index>& adjOther() const { return adjOther_; }
+    // The triangles with corner p: triOf()[triStart()[p] .. triStart()[p + 1]), in increasing order.
+    const std::vector<Index>& triStart() const { return triStart_; }
+    const std::vector<Index>& triOf() const { return triOf_; }
 
     // The springs by colour, the anti-stretch pass's order (strain_limit.h): no two springs of one
     // colour share a particle, so a colour's springs can be corrected in any order, or at once,
@@ -96,6 +99,7 @@ private:
     std::vector<Spring> springs_;
     std::vector<Scalar> mass_;
     std::vector<Index> adjStart_, adjSpring_, adjOther_;
+    std::vector<Index> triStart_, triOf_;
     std::vector<Index> colourStart_;
     std::vector<Spring> colouredSprings_;
     int nx_ = 0, ny_ = 0;

@@ -32,7 +32,9 @@ class Tethers {
 public:
     // Anchors are found again (a pass over particles x pins) only when the pinned particles change.
     // Returns the number of particles moved.
-    int apply(const Model& model, const std::vector<Pin>& pins, Scalar maxStretch, Scalar h, State& state);
+    // The particles are split among `pool`'s threads when given (each on its own: the same bits).
+    int apply(const Model& model, const std::vector<Pin>& pins, Scalar maxStretch, Scalar h, State& state,
+              ThreadPool* pool = nullptr);
 
 private:
     std::vector<Index> pinned_;  // the pins' particles the anchors were found for

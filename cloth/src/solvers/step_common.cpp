@@ -30,7 +30,7 @@ StepResult commit(const Model& model, const SolverConfig& config, const StepInpu
     // The corrections run on a finite state only (what they leave is finite too); the check after
     // them decides whether the step is kept.
     const bool correct = (config.tether > 0 || config.strainLimit > 0) && scratch.x.allFinite();
-    if (correct && config.tether > 0) tethers.apply(model, input.pins, config.tether, input.h, scratch);
+    if (correct && config.tether > 0) tethers.apply(model, input.pins, config.tether, input.h, scratch, &pool);
     if (correct && config.strainLimit > 0) {
         static thread_local std::vector<std::uint8_t> pinned;
         pinned.assign(n, 0);
