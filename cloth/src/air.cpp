@@ -3,6 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "simd.h"
+
 namespace cloth {
 
 void addAirForces(const Model& model, const State& state, const AirParams& air, Points& f,
@@ -14,53 +16,75 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
     // in n (wn n, wn^2 and n n^T do not change when n flips).
     const Scalar quarterRho = Scalar(0.25) * air.density;
     const Scalar normal = air.dragCoefficient - air.frictionCoefficient + air.liftCoefficient;
+    // Locals, not reads through `air`: the compiler cannot tell that the stores to f do not change it.
+    const Vec3 wind = air.wind;
+    const Scalar friction = air.frictionCoefficient, lift = air.liftCoefficient;
     const auto& triangles = model.triangles();
     const Index count = Index(triangles.size()), n = model.particleCount();
-    // First each triangle's share of its force (and of -dF/dv), then each particle's sum over its
-    // triangles in increasing order: the sums of a loop over the triangles, with the same bits,
-    // and both loops split among threads without two writing one place.
-    static thread_local std::vector<Vec3> shares;
-    static thread_local std::vector<Mat3> blocks;
-    shares.resize(count);
-    if (velocityJacobian) blocks.resize(count);
-    Vec3* share = shares.data();
-    Mat3* block = blocks.data();
-    auto perTriangle = [&](int begin, int end) {
-        for (Index k = begin; k < end; ++k) {
-            const Triangle& t = triangles[k];
-            share[k].setZero();
-            if (velocityJacobian) block[k].setZero();
-            const Vec3 a = state.x.col(t[0]), b = state.x.col(t[1]), c = state.x.col(t[2]);
-            const Vec3 N = (b - a).cross(c - a);
-            const Vec3 w = air.wind - (state.v.col(t[0]) + state.v.col(t[1]) + state.v.col(t[2])) / 3;
-            const Scalar twiceArea = N.norm(), s = w.norm(), q = w.dot(N);
-            if (twiceArea < 1e-14 || s < 1e-9) continue;
-            const Scalar inv = 1 / (twiceArea * s);
-            share[k] = (quarterRho / 3) * ((normal * s * s * q * inv) * N +
-                                           (air.frictionCoefficient * s * twiceArea - air.liftCoefficient * q * q * inv) * w);
-            if (!velocityJacobian) continue;
-            // dF/dw with n fixed (n depends on x only): ds/dw = w^T / s, d(wn)/dw = n^T.
-            const Scalar halfRho = 2 * quarterRho, area = Scalar(0.5) * twiceArea;
-            const Scalar cd = halfRho * area * air.dragCoefficient;
-            const Scalar cf = halfRho * area * air.frictionCoefficient;
-            const Scalar cl = halfRho * area * air.liftCoefficient;
-            const Vec3 nHat = N / twiceArea;
-            const Scalar wn = w.dot(nHat);
-            const Vec3 tangential = w - wn * nHat;
-            const Mat3 I = Mat3::Identity(), nn = nHat * nHat.transpose(), nw = nHat * w.transpose();
-            const Mat3 dDrag = cd * ((wn / s) * nw + s * nn);
-            const Mat3 dFriction = cf * (tangential * w.transpose() / s + s * (I - nn));
-            const Mat3 dLift = cl * (s * nn + (wn / s) * nw - (2 * wn / s) * nw.transpose() +
-                                     (wn * wn / (s * s * s)) * (w * w.transpose()) - (wn * wn / s) * I);
-            // f_i = F / 3 and dw/dv_i = -I / 3.
-            block[k] = -(dDrag + dFriction + dLift) / 9;
+    // One triangle's share of its force, and of -dF/dv when block is non-null; false (and zeros)
+    // for a degenerate triangle or no relative air.
+    auto triangleShare = [&](Index k, Vec3& share, Mat3* block) CLOTH_INLINE -> bool {
+        const Triangle& t = triangles[k];
+        const Vec3 a = state.x.col(t[0]), b = state.x.col(t[1]), c = state.x.col(t[2]);
+        const Vec3 N = (b - a).cross(c - a);
+        const Vec3 w = wind - (state.v.col(t[0]) + state.v.col(t[1]) + state.v.col(t[2])) / 3;
+        const Scalar twiceArea = N.norm(), s = w.norm(), q = w.dot(N);
+        if (twiceArea < 1e-14 || s < 1e-9) {
+            share.setZero();
+            if (block) block->setZero();
+            return false;
         }
+        const Scalar inv = 1 / (twiceArea * s);
+        share = (quarterRho / 3) * ((normal * s * s * q * inv) * N +
+                                    (friction * s * twiceArea - lift * q * q * inv) * w);
+        if (!block) return true;
+        // dF/dw with n fixed (n depends on x only): ds/dw = w^T / s, d(wn)/dw = n^T.
+        const Scalar halfRho = 2 * quarterRho, area = Scalar(0.5) * twiceArea;
+        const Scalar cd = halfRho * area * air.dragCoefficient;
+        const Scalar cf = halfRho * area * air.frictionCoefficient;
+        const Scalar cl = halfRho * area * air.liftCoefficient;
+        const Vec3 nHat = N / twiceArea;
+        const Scalar wn = w.dot(nHat);
+        const Vec3 tangential = w - wn * nHat;
+        const Mat3 I = Mat3::Identity(), nn = nHat * nHat.transpose(), nw = nHat * w.transpose();
+        const Mat3 dDrag = cd * ((wn / s) * nw + s * nn);
+        const Mat3 dFriction = cf * (tangential * w.transpose() / s + s * (I - nn));
+        const Mat3 dLift = cl * (s * nn + (wn / s) * nw - (2 * wn / s) * nw.transpose() +
+                                 (wn * wn / (s * s * s)) * (w * w.transpose()) - (wn * wn / s) * I);
+        // f_i = F / 3 and dw/dv_i = -I / 3.
+        *block = -(dDrag + dFriction + dLift) / 9;
+        return true;
     };
     if (velocityJacobian) velocityJacobian->assign(n, Mat3::Zero());
     Mat3* jacobian = velocityJacobian ? velocityJacobian->data() : nullptr;
+    if (!pool || pool->threads() < 2) {  // one loop, each share added to its corners
+        for (Index k = 0; k < count; ++k) {
+            Vec3 share;
+            Mat3 block;
+            if (!triangleShare(k, share, jacobian ? &block : nullptr)) continue;
+            const Triangle& t = triangles[k];
+            f.col(t[0]) += share;
+            f.col(t[1]) += share;
+            f.col(t[2]) += share;
+            if (jacobian)
+                for (const Index p : t) jacobian[p] += block;
+        }
+        return;
+    }
+    // Threads: first every triangle's share, then each particle's sum over its triangles in
+    // increasing order, the order of the loop above (the same bits); no two threads write one place.
+    static thread_local std::vector<Vec3> shares;
+    static thread_local std::vector<Mat3> blocks;
+    shares.resize(count);
+    if (jacobian) blocks.resize(count);
+    Vec3* share = shares.data();
+    Mat3* block = blocks.data();
+    pool->run(count, [&](int begin, int end) {
+        for (Index k = begin; k < end; ++k) triangleShare(k, share[k], jacobian ? &block[k] : nullptr);
+    });
     const Index* start = model.triStart().data();
     const Index* of = model.triOf().data();
-    auto perParticle = [&](int begin, int end) {
+    pool->run(n, [&](int begin, int end) {
         for (Index p = begin; p < end; ++p) {
             Vec3 sum = f.col(p);
             for (Index k = start[p]; k < start[p + 1]; ++k) sum += share[of[k]];
@@ -68,14 +92,7 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
             if (jacobian)
                 for (Index k = start[p]; k < start[p + 1]; ++k) jacobian[p] += block[of[k]];
         }
-    };
-    if (pool) {
-        pool->run(count, perTriangle);
-        pool->run(n, perParticle);
-    } else {
-        perTriangle(0, count);
-        perParticle(0, n);
-    }
+    });
 }
 
 Mat3 dampingBlock(const Mat3& dfdv) {
