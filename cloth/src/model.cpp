@@ -1,7 +1,6 @@
 #include "cloth/model.h"
 
 #include <atomic>
-#include <bit>
 #include <algorithm>
 #include <map>
 #include <sstream>
@@ -177,7 +176,7 @@ Model::Model(Points rest, std::vector<Triangle> triangles, std::vector<Spring> s
     const Scalar floorMass = totalMass / n * 1e-3;
     for (Scalar& m : mass_) m = std::max(m, floorMass);
     buildAdjacency();
-    colourSprings();
+    groupSpringsForThePass();
 }
 
 void Model::buildAdjacency() {
@@ -208,35 +207,21 @@ void Model::buildAdjacency() {
         for (const Index p : triangles_[t]) triOf_[fill[p]++] = Index(t);
 }
 
-void Model::colourSprings() {
+void Model::groupSpringsForThePass() {
     const Index n = particleCount();
-    Index degree = 0;
-    for (Index p = 0; p < n; ++p) degree = std::max(degree, adjStart_[p + 1] - adjStart_[p]);
-    // The colours taken at each particle: a bit set of `words` 64-bit words (2 d - 1 colours).
-    const Index words = (2 * degree) / 64 + 1;
-    std::vector<std::uint64_t> taken(std::size_t(n) * words, 0);
-    std::vector<Index> colour(springs_.size());
-    Index colours = 0;
+    const Index blocks = std::clamp<Index>(n / 4096, 1, 8);
+    auto blockOf = [&](Index p) { return Index(std::int64_t(p) * blocks / n); };
+    std::vector<Index> group(springs_.size());
     for (std::size_t s = 0; s < springs_.size(); ++s) {
-        std::uint64_t* ti = &taken[std::size_t(springs_[s].i) * words];
-        std::uint64_t* tj = &taken[std::size_t(springs_[s].j) * words];
-        Index c = 0;
-        for (Index w = 0; w < words; ++w)
-            if (const std::uint64_t free = ~(ti[w] | tj[w])) {
-                c = 64 * w + std::countr_zero(free);
-                break;
-            }
-        ti[c / 64] |= std::uint64_t(1) << (c % 64);
-        tj[c / 64] |= std::uint64_t(1) << (c % 64);
-        colour[s] = c;
-        colours = std::max(colours, c + 1);
+        const Index a = blockOf(springs_[s].i), b = blockOf(springs_[s].j);
+        group[s] = a == b ? a : blocks;
     }
-    colourStart_.assign(colours + 1, 0);
-    for (const Index c : colour) ++colourStart_[c + 1];
-    for (Index c = 0; c < colours; ++c) colourStart_[c + 1] += colourStart_[c];
-    colouredSprings_.resize(springs_.size());
-    std::vector<Index> fill(colourStart_.begin(), colourStart_.end() - 1);
-    for (std::size_t s = 0; s < springs_.size(); ++s) colouredSprings_[fill[colour[s]]++] = springs_[s];
+    passGroupStart_.assign(blocks + 2, 0);
+    for (const Index g : group) ++passGroupStart_[g + 1];
+    for (Index g = 0; g <= blocks; ++g) passGroupStart_[g + 1] += passGroupStart_[g];
+    passSprings_.resize(springs_.size());
+    std::vector<Index> fill(passGroupStart_.begin(), passGroupStart_.end() - 1);
+    for (std::size_t s = 0; s < springs_.size(); ++s) passSprings_[fill[group[s]]++] = springs_[s];
 }
 
 Scalar Model::totalMass() const {

@@ -8,9 +8,10 @@ namespace cloth {
 int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes,
                  Scalar h, State& state, ThreadPool* pool) {
     const auto& mass = model.masses();
-    const auto& springs = model.colouredSprings();
-    const auto& start = model.colourStart();
-    // Springs [begin, end) of one colour; returns the corrections.
+    const auto& springs = model.passSprings();
+    const auto& start = model.passGroupStart();
+    const Index blocks = model.passBlocks();
+    // Springs [begin, end) in order; returns the corrections.
     Scalar* x = state.x.data();
     Scalar* v = state.v.data();
     const Scalar* m = mass.data();
@@ -41,22 +42,19 @@ int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Sc
         }
         return count;
     };
-    // A colour is split among the pool's threads when each gets enough springs to outweigh the
-    // hand-over; the split never changes a bit, since no two springs of a colour share a particle.
-    constexpr Index kMinSpringsPerThread = 2048;
     int corrections = 0;
     for (int pass = 0; pass < passes; ++pass) {
-        int thisPass = 0;
-        for (std::size_t c = 0; c + 1 < start.size(); ++c) {
-            const Index begin = start[c], size = start[c + 1] - begin;
-            if (!pool || pool->threads() < 2 || size < kMinSpringsPerThread * pool->threads()) {
-                thisPass += correct(begin, begin + size);
-                continue;
-            }
-            std::atomic<int> count{0};
-            pool->run(size, [&](int b, int e) { count += correct(begin + b, begin + e); });
-            thisPass += count;
-        }
+        // The blocks (on the pool's threads, which never changes a bit: they share no particle),
+        // then the seam.
+        std::atomic<int> inBlocks{0};
+        auto run = [&](int b0, int b1) {
+            int count = 0;
+            for (int b = b0; b < b1; ++b) count += correct(start[b], start[b + 1]);
+            inBlocks += count;
+        };
+        if (pool && blocks > 1) pool->run(blocks, run);
+        else run(0, blocks);
+        const int thisPass = inBlocks + correct(start[blocks], start[blocks + 1]);
         corrections += thisPass;
         if (thisPass == 0) break;
     }

@@ -1,9 +1,6 @@
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <cmath>
 #include <stdexcept>
-#include <tuple>
 #include <vector>
 
 #include "cloth/diagnostics.h"
@@ -49,48 +46,47 @@ TEST(Model, MeshSpringsFromEdgesAndBendsAcrossInteriorEdges) {
     EXPECT_NEAR(m.totalMass(), 1.0, 1e-12);
 }
 
-// The anti-stretch pass's colours, checked by brute force: every spring exactly once, and no two
-// springs of a colour sharing a particle (the pass corrects a colour's springs in any order, and
-// splits it among threads, on that promise).
-void expectProperColouring(const Model& m, const char* what) {
-    ASSERT_EQ(m.colouredSprings().size(), m.springs().size()) << what;
-    ASSERT_EQ(m.colourStart().back(), m.springCount()) << what;
-    auto key = [](const Spring& s) { return std::tuple(s.i, s.j, int(s.kind), s.k, s.rest); };
-    std::vector<std::tuple<Index, Index, int, Scalar, Scalar>> a, b;
-    for (const Spring& s : m.springs()) a.push_back(key(s));
-    for (const Spring& s : m.colouredSprings()) b.push_back(key(s));
-    std::sort(a.begin(), a.end());
-    std::sort(b.begin(), b.end());
-    EXPECT_EQ(a, b) << what << ": the coloured springs are not the springs";
-    for (std::size_t c = 0; c + 1 < m.colourStart().size(); ++c) {
-        std::vector<int> seen(m.particleCount(), 0);
-        for (Index k = m.colourStart()[c]; k < m.colourStart()[c + 1]; ++k) {
-            const Spring& s = m.colouredSprings()[k];
-            for (const Index p : {s.i, s.j})
-                EXPECT_EQ(seen[p]++, 0) << what << ": particle " << p << " twice in colour " << c;
+// The anti-stretch pass's groups, checked by brute force: every spring exactly once, each group
+// in spring order, and no particle in two of the blocks (the groups before the seam), which the
+// pass runs at once on that promise.
+void expectPassGroups(const Model& m, int blocks, const char* what) {
+    ASSERT_EQ(m.passBlocks(), blocks) << what;
+    ASSERT_EQ(m.passSprings().size(), m.springs().size()) << what;
+    ASSERT_EQ(m.passGroupStart().back(), m.springCount()) << what;
+    // Each group is a subsequence of springs(), and together they are all of it.
+    std::vector<int> used(m.springCount(), 0);
+    for (int g = 0; g <= blocks; ++g) {
+        Index from = 0;
+        for (Index k = m.passGroupStart()[g]; k < m.passGroupStart()[g + 1]; ++k) {
+            const Spring& s = m.passSprings()[k];
+            while (from < m.springCount() && !(m.springs()[from].i == s.i && m.springs()[from].j == s.j)) ++from;
+            ASSERT_LT(from, m.springCount()) << what << ": group " << g << " is not in spring order at " << k;
+            ++used[from++];
         }
     }
+    for (Index s = 0; s < m.springCount(); ++s) EXPECT_EQ(used[s], 1) << what << ": spring " << s;
+    std::vector<int> owner(m.particleCount(), -1);
+    for (int g = 0; g < blocks; ++g)
+        for (Index k = m.passGroupStart()[g]; k < m.passGroupStart()[g + 1]; ++k)
+            for (const Index p : {m.passSprings()[k].i, m.passSprings()[k].j}) {
+                EXPECT_TRUE(owner[p] == -1 || owner[p] == g) << what << ": particle " << p << " in blocks "
+                                                             << owner[p] << " and " << g;
+                owner[p] = g;
+            }
 }
 
-TEST(Model, SpringColoursCoverEverySpringOnceAndShareNoParticle) {
+TEST(Model, PassGroupsCoverEverySpringOnceAndBlocksShareNoParticle) {
     GridDesc g;
-    g.nx = 9;
-    g.ny = 7;
+    g.nx = g.ny = 129;  // 16,641 particles: four blocks of about 32 rows
     const Model grid = Model::fromGrid(g);
-    expectProperColouring(grid, "9x7 grid");
-    // Greedy in spring order gives a grid 12 colours (a particle has 12 springs, so no fewer).
-    EXPECT_EQ(grid.colourStart().size() - 1, 12u);
-    // A fan: one vertex in 8 triangles, so 8 structural springs meet there.
-    Points x(3, 9);
-    x.col(0) = Vec3::Zero();
-    std::vector<Triangle> fan;
-    for (int k = 0; k < 8; ++k) {
-        x.col(k + 1) = Vec3(std::cos(k * M_PI / 4), std::sin(k * M_PI / 4), 0);
-        fan.push_back({0, k + 1, (k + 1) % 8 + 1});
-    }
-    const Model mesh = Model::fromMesh(x, fan, 1.0, {10, 0, 2});
-    expectProperColouring(mesh, "fan");
-    EXPECT_GE(mesh.colourStart().size() - 1, 8u);
+    expectPassGroups(grid, 4, "129x129 grid");
+    // The seam: the springs across the three cuts (structural, two shear and two bend springs
+    // per column and cut, give or take the edges), a few percent of the springs.
+    const Index seam = grid.passGroupStart()[5] - grid.passGroupStart()[4];
+    EXPECT_GT(seam, 3 * 129 * 4);
+    EXPECT_LT(seam, grid.springCount() / 20);
+    g.nx = g.ny = 33;
+    expectPassGroups(Model::fromGrid(g), 1, "33x33 grid");
 }
 
 TEST(Model, BadInputNamesFieldAndValue) {

@@ -661,8 +661,8 @@ TEST(PhysicsStrainLimit, WithoutPinsMomentumAndMassMomentAreKept) {
         << "sum m x before " << moment0.transpose() << ", after " << massMoment(c.model, c.state).transpose();
 }
 
-TEST(PhysicsStrainLimit, ThreadsSplitEachColourWithTheSameBits) {
-    // 129 x 129: colours of about 8,000 springs, which the pass splits between two threads.
+TEST(PhysicsStrainLimit, ThreadsSplitTheBlocksWithTheSameBits) {
+    // 129 x 129: four blocks, which the pass splits between two threads.
     HangingFlagDesc d;
     d.nx = d.ny = 129;
     HangingFlag flag = makeHangingFlag(d);

@@ -75,14 +75,15 @@ public:
     const std::vector<Index>& triStart() const { return triStart_; }
     const std::vector<Index>& triOf() const { return triOf_; }
 
-    // The springs by colour, the anti-stretch pass's order (strain_limit.h): no two springs of one
-    // colour share a particle, so a colour's springs can be corrected in any order, or at once,
-    // with the same bits. Colour c is colouredSprings()[colourStart()[c] .. colourStart()[c + 1]),
-    // copies of springs() in their order there. A greedy colouring in spring order (each spring
-    // takes the lowest colour free at both ends): 12 colours on a grid, at most 2 d - 1 for a
-    // largest degree d.
-    const std::vector<Index>& colourStart() const { return colourStart_; }
-    const std::vector<Spring>& colouredSprings() const { return colouredSprings_; }
+    // The anti-stretch pass's order (strain_limit.h), copies of springs() in groups: group b < B
+    // holds, in spring order, the springs with both ends in the b-th of B equal ranges of particle
+    // indices (a band of rows on a grid); group B, the seam, every other spring, in spring order.
+    // The first B groups share no particle, so they can run at once with the same bits; the seam
+    // follows. B = particles / 4096, from 1 to 8: below 8,192 particles one group holds every
+    // spring, in spring order. Group g is passSprings()[passGroupStart()[g] .. [g + 1]).
+    int passBlocks() const { return static_cast<int>(passGroupStart_.size()) - 2; }
+    const std::vector<Index>& passGroupStart() const { return passGroupStart_; }
+    const std::vector<Spring>& passSprings() const { return passSprings_; }
 
     Scalar totalMass() const;
     // Identity for solver caches: every model built gets its own id; a copy shares it (a Model
@@ -92,7 +93,7 @@ public:
 private:
     Model(Points rest, std::vector<Triangle> triangles, std::vector<Spring> springs, Scalar totalMass);
     void buildAdjacency();
-    void colourSprings();
+    void groupSpringsForThePass();
 
     Points rest_;
     std::vector<Triangle> triangles_;
@@ -100,8 +101,8 @@ private:
     std::vector<Scalar> mass_;
     std::vector<Index> adjStart_, adjSpring_, adjOther_;
     std::vector<Index> triStart_, triOf_;
-    std::vector<Index> colourStart_;
-    std::vector<Spring> colouredSprings_;
+    std::vector<Index> passGroupStart_;
+    std::vector<Spring> passSprings_;
     int nx_ = 0, ny_ = 0;
     std::uint64_t id_ = 0;
 };

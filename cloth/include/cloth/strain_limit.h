@@ -2,9 +2,10 @@
 // Anti-stretch: strain limiting in the manner of Provot 1995 ("Deformation constraints in a
 // mass-spring model to describe rigid cloth behavior"). After a step, every spring stretched
 // beyond (1 + maxStretch) times its rest length has its ends pulled together to that length
-// (split by inverse mass; pinned ends do not move), for a few Gauss-Seidel passes over the
-// springs by colour (Model::colouredSprings(): no two springs of a colour share a particle, so a
-// colour can be split among threads, with the same bits for any thread count). The velocity of each moved particle changes by its correction / h, so the
+// (split by inverse mass; pinned ends do not move), for a few Gauss-Seidel passes in the order of
+// Model::passSprings(): in spring order within bands of particles, which share no particle and so
+// run on the pool's threads with the same bits for any thread count, then the springs between
+// the bands. The velocity of each moved particle changes by its correction / h, so the
 // constraint also removes the stretching velocity.
 
 #include <vector>
