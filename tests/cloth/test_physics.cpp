@@ -575,6 +575,38 @@ TEST(PhysicsCollision, SignedDistanceAndNormalMatchTheShapeGeometry) {
     }
 }
 
+TEST(PhysicsCollision, ExactlyTheParticlesWithinTheThicknessOfTheGeometryMove) {
+    // collideParticle rejects most particles with a cheap test before the signed distance; it
+    // must move every particle closer than `thickness` to the surface (this file's geometry) and
+    // no other, also just inside and just outside that shell.
+    const Scalar thickness = 0.05;
+    for (const CollisionShape& shape : collisionShapes()) {
+        std::mt19937 rng(5);
+        int moved = 0, kept = 0, wrong = 0;
+        std::string firstWrong;
+        for (int k = 0; k < 2000; ++k) {
+            Vec3 p = shape.collider.center + randomVec(rng, -1.5, 1.5);
+            if (k % 2) {  // onto the shell at `thickness`, then 1e-7 in or out
+                const Surface at = shape.surface(shape.collider, p);
+                p += (thickness - at.distance + (k % 4 == 1 ? -1e-7 : 1e-7)) * at.normal;
+            }
+            const Scalar distance = shape.surface(shape.collider, p).distance;
+            Vec3 x = p, v = Vec3(0.3, -1, 0.2);
+            const bool hit = collideParticle(shape.collider, thickness, x, v);
+            (hit ? moved : kept) += 1;
+            if (hit == (distance < thickness) && (hit || (x == p && v == Vec3(0.3, -1, 0.2)))) continue;
+            if (wrong++ == 0) {
+                std::ostringstream s;
+                s << "at " << p.transpose() << " (distance " << distance << "): moved " << hit;
+                firstWrong = s.str();
+            }
+        }
+        EXPECT_EQ(wrong, 0) << shape.name << ": " << wrong << " of 2000 particles wrong, first " << firstWrong;
+        EXPECT_GT(moved, 100) << shape.name;
+        EXPECT_GT(kept, 100) << shape.name;
+    }
+}
+
 // =============================================================================================
 // 3. Anti-stretch
 
