@@ -115,12 +115,14 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
         const Index* start = model.triStart().data();
         const Index* of = model.triOf().data();
         Scalar* force = f.data();
-        auto sum = [&](int begin, int end) {
+        // Pointers, not the thread_local vectors: a worker thread naming them would get its own.
+        const Scalar *shareXs = shareX.data(), *shareYs = shareY.data(), *shareZs = shareZ.data();
+        auto sum = [=](int begin, int end) {
             for (Index p = begin; p < end; ++p) {
                 Scalar fx = force[3 * p], fy = force[3 * p + 1], fz = force[3 * p + 2];
                 for (Index k = start[p]; k < start[p + 1]; ++k) {
                     const Index t = of[k];
-                    fx += shareX[t], fy += shareY[t], fz += shareZ[t];
+                    fx += shareXs[t], fy += shareYs[t], fz += shareZs[t];
                 }
                 force[3 * p] = fx, force[3 * p + 1] = fy, force[3 * p + 2] = fz;
             }
