@@ -99,33 +99,32 @@ def check_newton_extremes(d):
 
 
 def check_extremes(d):
-    """The demo's default configuration at 33x33 (at 65x65 it is measured, not asserted:
-    docs/study.md): stable in every extreme case but the 10 g stop. In the 10 g stop the flag wraps
-    around the pole, and whether a spring stays snagged across it (up to 91% over the last second)
-    or not (20-36%) changed with the last bits of the air force: 4 of 6 runs with air densities
-    1.2 +- 3e-4 recovered before session 20's air arithmetic, 3 of 6 after it (docs/study.md,
-    "The 10 g stop is a coin toss"). There the check asserts what held in all twelve runs: no
-    failed step, speeds bounded, and the last second under 100% stretch."""
+    """The demo's default configuration: stable in all six extreme cases at every flag size the run
+    has (33x33 in the quick study, 33x33 and 65x65 in the full one). Since session 21's default
+    (the paper's step in float, tethers at 3%, 4 anti-stretch passes) this includes the 10 g stop,
+    which the default before it lost in 3 of 6 runs with air densities 1.2 +- 3e-4; the new one
+    held in all 12 (6 densities x 2 sizes, docs/study.md, session 21)."""
     with open(os.path.join(d, "extreme.csv"), newline="") as f:
         reader = csv.DictReader(f)
         missing = [c for c in EXTREME_COLUMNS if c not in reader.fieldnames]
-        rows = [r for r in reader if r["config"] == "demo_default" and r["size"] == "33"]
+        rows = [r for r in reader if r["config"] == "demo_default"]
     if missing:
         sys.exit(f"{d}/extreme.csv: missing columns {missing}")
     cases = {"speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"}
-    bad = [r["case"] for r in rows if r["case"] != "stop_10g" and r["stable"] != "1"]
-    bad += sorted(cases - {r["case"] for r in rows})
-    for r in rows:
-        if r["case"] == "stop_10g" and not (r["failures"] == "0" and float(r["max_speed"]) < 1000
-                                            and float(r["late_max_stretch"]) < 1.0):
-            bad.append(f"stop_10g (failures {r['failures']}, max speed {r['max_speed']} m/s, "
-                       f"last-second stretch {r['late_max_stretch']})")
+    sizes = sorted({r["size"] for r in rows}, key=int)
+    if "33" not in sizes:
+        sys.exit(f"{d}/extreme.csv: no rows of the demo's default configuration at 33x33")
+    bad = []
+    for size in sizes:
+        at = [r for r in rows if r["size"] == size]
+        bad += [f"{r['case']} at {size}x{size}" for r in at if r["stable"] != "1"]
+        bad += [f"{c} at {size}x{size} (missing)" for c in sorted(cases - {r["case"] for r in at})]
     if bad:
-        sys.exit(f"{d}/extreme.csv: the demo's default configuration is not stable at 33x33 in: {bad}")
-    stop = [r for r in rows if r["case"] == "stop_10g"]
-    print(f"{d}/extreme.csv: the demo's default configuration is stable at 33x33 in the {len(rows) - len(stop)} "
-          f"other extreme cases; in the 10 g stop it has no failed step and "
-          f"{float(stop[0]['late_max_stretch']):.0%} stretch over the last second")
+        sys.exit(f"{d}/extreme.csv: the demo's default configuration is not stable in: {bad}")
+    for size in sizes:
+        at = [r for r in rows if r["size"] == size]
+        print(f"{d}/extreme.csv: the demo's default configuration is stable in all six extreme cases at "
+              f"{size}x{size}; p99 stretch " + ", ".join(f"{r['case']} {float(r['p99_stretch']):.0%}" for r in at))
 
 
 def main():
