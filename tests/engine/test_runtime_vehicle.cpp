@@ -64,17 +64,23 @@ TEST(RuntimeVehicle, FlagTrailsBehindAtSpeedAndHangsAtRest) {
     }
     EXPECT_GT(checked, 60) << "the cruise never held above 5 m/s";
 
-    // At rest in still air: hangs below the pole top.
+    // At rest in still air: hangs below the pole top. Released flat with its top edge at the pole
+    // top, a flag that only loses energy to the air does not climb back over the pole top once the
+    // vehicle has settled on its wheels (1.5 s; session 21: the paper's step with 3 anti-stretch
+    // passes and tethers at 1% threw it 0.3 m above it).
     SceneConfig still = headless("flag_vehicle");
     still.script.clear();
     RunOptions o2;
     o2.duration = 5;
     Runtime rest(still, o2);
-    while (rest.frame()) {
-    }
+    double highest = -1e9;
+    while (rest.frame())
+        if (rest.simTime() >= 1.5)
+            highest = std::max(highest, rest.flag()->state().x.row(1).maxCoeff() - rest.poleTop().y());
     const Eigen::Vector3d centroid = rest.flag()->state().x.rowwise().mean();
     EXPECT_LT(rest.carrierVelocity().norm(), 0.05);
     EXPECT_LT(centroid.y(), rest.poleTop().y() - 0.6 * still.flag.height);
+    EXPECT_LT(highest, 0.02) << "m above the pole top";
 }
 
 TEST(RuntimeVehicle, VehicleOnlySceneHasNoClothPhases) {
