@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "simd.h"
 
@@ -17,10 +18,9 @@ struct ShareArgs {
     Scalar *sx, *sy, *sz;  // per triangle
 };
 
-// Without the velocity Jacobian: every triangle's share of its force, the arithmetic of
-// triangleShare() below written out per coordinate. Per tile of triangles, the corners' edges and
-// the relative air are gathered into arrays, then the rest runs one triangle a SIMD lane, with a
-// select in place of the early return. The same bits as triangleShare().
+// Every triangle's share of its force (zero for a degenerate triangle or no relative air), written
+// out per coordinate. Per tile of triangles, the corners' edges and the relative air are gathered
+// into arrays, then the rest runs one triangle a SIMD lane, with a select in place of a branch.
 CLOTH_SIMD_CLONES void triangleShares(const ShareArgs& a, Index begin, Index end) {
     const Scalar* __restrict x = a.x;
     const Scalar* __restrict v = a.v;
@@ -71,23 +71,14 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
     const Scalar friction = air.frictionCoefficient, lift = air.liftCoefficient;
     const auto& triangles = model.triangles();
     const Index count = Index(triangles.size()), n = model.particleCount();
-    // One triangle's share of its force, and of -dF/dv when block is non-null; false (and zeros)
-    // for a degenerate triangle or no relative air.
-    auto triangleShare = [&](Index k, Vec3& share, Mat3* block) CLOTH_INLINE -> bool {
+    // One triangle's share of -dF/dv (zero for a degenerate triangle or no relative air).
+    auto triangleBlock = [&](Index k) -> Mat3 {
         const Triangle& t = triangles[k];
         const Vec3 a = state.x.col(t[0]), b = state.x.col(t[1]), c = state.x.col(t[2]);
         const Vec3 N = (b - a).cross(c - a);
         const Vec3 w = wind - (state.v.col(t[0]) + state.v.col(t[1]) + state.v.col(t[2])) / 3;
-        const Scalar twiceArea = N.norm(), s = w.norm(), q = w.dot(N);
-        if (twiceArea < 1e-14 || s < 1e-9) {
-            share.setZero();
-            if (block) block->setZero();
-            return false;
-        }
-        const Scalar inv = 1 / (twiceArea * s);
-        share = (quarterRho / 3) * ((normal * s * s * q * inv) * N +
-                                    (friction * s * twiceArea - lift * q * q * inv) * w);
-        if (!block) return true;
+        const Scalar twiceArea = N.norm(), s = w.norm();
+        if (twiceArea < 1e-14 || s < 1e-9) return Mat3::Zero();
         // dF/dw with n fixed (n depends on x only): ds/dw = w^T / s, d(wn)/dw = n^T.
         const Scalar halfRho = 2 * quarterRho, area = Scalar(0.5) * twiceArea;
         const Scalar cd = halfRho * area * air.dragCoefficient;
@@ -102,74 +93,47 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
         const Mat3 dLift = cl * (s * nn + (wn / s) * nw - (2 * wn / s) * nw.transpose() +
                                  (wn * wn / (s * s * s)) * (w * w.transpose()) - (wn * wn / s) * I);
         // f_i = F / 3 and dw/dv_i = -I / 3.
-        *block = -(dDrag + dFriction + dLift) / 9;
-        return true;
+        return -(dDrag + dFriction + dLift) / 9;
     };
-    if (!velocityJacobian) {
-        // Every triangle's share (vectorized), then each particle's sum over its triangles in
-        // increasing order: the order in which the loop below adds them, so the same bits.
-        static thread_local std::vector<Scalar> shareX, shareY, shareZ;
-        shareX.resize(count), shareY.resize(count), shareZ.resize(count);
-        const ShareArgs args{triangles.data(), state.x.data(), state.v.data(), wind.x(), wind.y(), wind.z(),
-                             quarterRho / 3, normal, friction, lift, shareX.data(), shareY.data(), shareZ.data()};
-        const Index* start = model.triStart().data();
-        const Index* of = model.triOf().data();
-        Scalar* force = f.data();
-        // Pointers, not the thread_local vectors: a worker thread naming them would get its own.
-        const Scalar *shareXs = shareX.data(), *shareYs = shareY.data(), *shareZs = shareZ.data();
-        auto sum = [=](int begin, int end) {
-            for (Index p = begin; p < end; ++p) {
-                Scalar fx = force[3 * p], fy = force[3 * p + 1], fz = force[3 * p + 2];
-                for (Index k = start[p]; k < start[p + 1]; ++k) {
-                    const Index t = of[k];
-                    fx += shareXs[t], fy += shareYs[t], fz += shareZs[t];
-                }
-                force[3 * p] = fx, force[3 * p + 1] = fy, force[3 * p + 2] = fz;
-            }
-        };
-        if (!pool || pool->threads() < 2) {
-            triangleShares(args, 0, count);
-            sum(0, n);
-        } else {
-            pool->run(count, [&](int begin, int end) { triangleShares(args, begin, end); });
-            pool->run(n, sum);
-        }
-        return;
-    }
-    velocityJacobian->assign(n, Mat3::Zero());
-    Mat3* jacobian = velocityJacobian->data();
-    if (!pool || pool->threads() < 2) {  // one loop, each share added to its corners
-        for (Index k = 0; k < count; ++k) {
-            Vec3 share;
-            Mat3 block;
-            if (!triangleShare(k, share, jacobian ? &block : nullptr)) continue;
-            const Triangle& t = triangles[k];
-            f.col(t[0]) += share;
-            f.col(t[1]) += share;
-            f.col(t[2]) += share;
-            if (jacobian)
-                for (const Index p : t) jacobian[p] += block;
-        }
-        return;
-    }
-    // Threads: first every triangle's share, then each particle's sum over its triangles in
-    // increasing order, the order of the loop above (the same bits); no two threads write one place.
-    static thread_local std::vector<Vec3> shares;
+    // A loop over [0, size) on the pool's threads when it has more than one, else here.
+    auto run = [&](Index size, const std::function<void(int, int)>& body) {
+        if (pool && pool->threads() > 1) pool->run(int(size), body);
+        else body(0, int(size));
+    };
+    // Every triangle's share (and block), then each particle's sum over its triangles in increasing
+    // order: the bits of a loop over the triangles adding to their corners, whatever the threads,
+    // and no two threads write one place. The per-triangle arrays are reached through pointers: a
+    // worker thread naming the thread_local vectors would get its own.
+    static thread_local std::vector<Scalar> shareX, shareY, shareZ;
     static thread_local std::vector<Mat3> blocks;
-    shares.resize(count);
-    if (jacobian) blocks.resize(count);
-    Vec3* share = shares.data();
-    Mat3* block = blocks.data();
-    pool->run(count, [&](int begin, int end) {
-        for (Index k = begin; k < end; ++k) triangleShare(k, share[k], jacobian ? &block[k] : nullptr);
-    });
+    shareX.resize(count), shareY.resize(count), shareZ.resize(count);
+    const ShareArgs args{triangles.data(), state.x.data(), state.v.data(), wind.x(), wind.y(), wind.z(),
+                         quarterRho / 3, normal, friction, lift, shareX.data(), shareY.data(), shareZ.data()};
+    run(count, [&](int begin, int end) { triangleShares(args, begin, end); });
+    Mat3* jacobian = nullptr;
+    const Mat3* block = nullptr;
+    if (velocityJacobian) {
+        velocityJacobian->assign(n, Mat3::Zero());
+        jacobian = velocityJacobian->data();
+        blocks.resize(count);
+        Mat3* out = blocks.data();
+        run(count, [&](int begin, int end) {
+            for (Index k = begin; k < end; ++k) out[k] = triangleBlock(k);
+        });
+        block = blocks.data();
+    }
     const Index* start = model.triStart().data();
     const Index* of = model.triOf().data();
-    pool->run(n, [&](int begin, int end) {
+    Scalar* force = f.data();
+    const Scalar *sx = shareX.data(), *sy = shareY.data(), *sz = shareZ.data();
+    run(n, [=](int begin, int end) {
         for (Index p = begin; p < end; ++p) {
-            Vec3 sum = f.col(p);
-            for (Index k = start[p]; k < start[p + 1]; ++k) sum += share[of[k]];
-            f.col(p) = sum;
+            Scalar fx = force[3 * p], fy = force[3 * p + 1], fz = force[3 * p + 2];
+            for (Index k = start[p]; k < start[p + 1]; ++k) {
+                const Index t = of[k];
+                fx += sx[t], fy += sy[t], fz += sz[t];
+            }
+            force[3 * p] = fx, force[3 * p + 1] = fy, force[3 * p + 2] = fz;
             if (jacobian)
                 for (Index k = start[p]; k < start[p + 1]; ++k) jacobian[p] += block[of[k]];
         }

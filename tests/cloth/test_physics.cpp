@@ -462,7 +462,7 @@ TEST(PhysicsAir, ForcesEqualTheDocumentedPerTriangleFormula) {
     }
 }
 
-TEST(PhysicsAir, TwoThreadsAndTheVectorizedPathGiveTheBitsOfOne) {
+TEST(PhysicsAir, TwoThreadsAndTheForcesAloneGiveTheBitsOfOne) {
     // The forces and their velocity Jacobian on a moving 33 x 33 flag; the formula itself is
     // checked above, on one thread.
     HangingFlag flag = makeHangingFlag(HangingFlagDesc{});
@@ -482,8 +482,7 @@ TEST(PhysicsAir, TwoThreadsAndTheVectorizedPathGiveTheBitsOfOne) {
     EXPECT_GT((one - start).norm(), 1e-3) << "the air should push the flag";
     EXPECT_TRUE(one == split) << "max |df| " << (one - split).cwiseAbs().maxCoeff();
     for (std::size_t i = 0; i < jOne.size(); ++i) ASSERT_TRUE(jOne[i] == jSplit[i]) << "df/dv of particle " << i;
-    // Without the Jacobian the forces take the vectorized path: the bits of the scalar one above,
-    // on one thread and on two.
+    // Without the Jacobian, the bits of the forces with it, on one thread and on two.
     Points alone = start, alone2 = start;
     addAirForces(flag.model, flag.state, air, alone);
     addAirForces(flag.model, flag.state, air, alone2, nullptr, &two);
