@@ -7,6 +7,17 @@
 
 namespace cloth {
 
+namespace {
+
+// A sphere's centre, or the point of a capsule's segment nearest to p.
+Vec3 coreNearest(const Collider& c, const Vec3& p) {
+    if (c.shape != Collider::Shape::Capsule) return c.center;
+    const Scalar half = std::abs(c.halfExtents.x());  // clamp needs low <= high
+    return c.center + std::clamp((p - c.center).dot(c.axis), -half, half) * c.axis;
+}
+
+}  // namespace
+
 Scalar signedDistance(const Collider& c, const Vec3& p, Vec3* normal) {
     Vec3 n = Vec3::UnitY();
     Scalar d = 0;
@@ -18,13 +29,7 @@ Scalar signedDistance(const Collider& c, const Vec3& p, Vec3* normal) {
         }
         case Collider::Shape::Sphere:
         case Collider::Shape::Capsule: {
-            Vec3 closest = c.center;
-            if (c.shape == Collider::Shape::Capsule) {
-                const Scalar half = std::abs(c.halfExtents.x());  // clamp needs low <= high
-                const Scalar t = std::clamp((p - c.center).dot(c.axis), -half, half);
-                closest = c.center + t * c.axis;
-            }
-            const Vec3 r = p - closest;
+            const Vec3 r = p - coreNearest(c, p);
             const Scalar len = r.norm();
             // At the exact centre any direction is outward; pick one orthogonal to the axis.
             n = len > 1e-12 ? Vec3(r / len) : c.axis.unitOrthogonal();
@@ -65,13 +70,8 @@ bool clearOf(const Collider& c, Scalar thickness, const Vec3& p) {
         case Collider::Shape::Plane: return false;  // signedDistance is as cheap
         case Collider::Shape::Sphere:
         case Collider::Shape::Capsule: {
-            Vec3 closest = c.center;
-            if (c.shape == Collider::Shape::Capsule) {
-                const Scalar half = std::abs(c.halfExtents.x());
-                closest = c.center + std::clamp((p - c.center).dot(c.axis), -half, half) * c.axis;
-            }
             const Scalar reach = c.radius + thickness;
-            return reach >= 0 && (p - closest).squaredNorm() > reach * reach * (1 + margin) + margin;
+            return reach >= 0 && (p - coreNearest(c, p)).squaredNorm() > reach * reach * (1 + margin) + margin;
         }
         case Collider::Shape::Box: {
             // Outside the box grown by `thickness` along some local axis: the distance to the
