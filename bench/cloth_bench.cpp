@@ -135,7 +135,7 @@ void airForces(benchmark::State& bm, bool implicit) {
 void antiStretch(benchmark::State& bm) {
     cloth::HangingFlag flag = flagOfSize(static_cast<int>(bm.range(0)));
     cloth::SolverConfig demo;
-    cloth::parseSolverConfig("kangcho:precision=float,strain_limit=0.1,strain_passes=4,tether=0.01", demo, nullptr);
+    cloth::parseSolverConfig("kangcho:precision=float,strain_limit=0.1,strain_passes=4,tether=0.02", demo, nullptr);
     auto solver = cloth::makeSolver(demo);
     for (int s = 0; s < 60; ++s) solver->step(flag.model, cloth::Environment{}, flag.state, inputOfStep(flag, Pole::Swung, s));
     const cloth::Vec3 top = flag.state.x.col(flag.pins.front().particle);
