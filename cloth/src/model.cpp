@@ -221,7 +221,8 @@ void Model::groupSpringsForThePass() {
     for (Index g = 0; g <= blocks; ++g) passGroupStart_[g + 1] += passGroupStart_[g];
     passSprings_.resize(springs_.size());
     std::vector<Index> fill(passGroupStart_.begin(), passGroupStart_.end() - 1);
-    for (std::size_t s = 0; s < springs_.size(); ++s) passSprings_[fill[group[s]]++] = springs_[s];
+    for (std::size_t s = 0; s < springs_.size(); ++s)
+        passSprings_[fill[group[s]]++] = {springs_[s].i, springs_[s].j, springs_[s].rest};
 }
 
 Scalar Model::totalMass() const {

@@ -58,8 +58,10 @@ void expectPassGroups(const Model& m, int blocks, const char* what) {
     for (int g = 0; g <= blocks; ++g) {
         Index from = 0;
         for (Index k = m.passGroupStart()[g]; k < m.passGroupStart()[g + 1]; ++k) {
-            const Spring& s = m.passSprings()[k];
-            while (from < m.springCount() && !(m.springs()[from].i == s.i && m.springs()[from].j == s.j)) ++from;
+            const PassSpring& s = m.passSprings()[k];
+            while (from < m.springCount() && !(m.springs()[from].i == s.i && m.springs()[from].j == s.j &&
+                                               m.springs()[from].rest == s.rest))
+                ++from;
             ASSERT_LT(from, m.springCount()) << what << ": group " << g << " is not in spring order at " << k;
             ++used[from++];
         }

@@ -21,6 +21,13 @@ struct Spring {
     Scalar rest = 0;  // rest length, m
 };
 
+// A spring as the anti-stretch pass reads it: its ends and rest length, half the bytes of a
+// Spring, since the pass streams every spring several times per step.
+struct PassSpring {
+    Index i = 0, j = 0;
+    Scalar rest = 0;  // m
+};
+
 using Triangle = std::array<Index, 3>;
 
 // Stiffness per spring kind, N/m.
@@ -75,7 +82,7 @@ public:
     const std::vector<Index>& triStart() const { return triStart_; }
     const std::vector<Index>& triOf() const { return triOf_; }
 
-    // The anti-stretch pass's order (strain_limit.h), copies of springs() in groups: group b < B
+    // The anti-stretch pass's order (strain_limit.h), springs() in groups: group b < B
     // holds, in spring order, the springs with both ends in the b-th of B equal ranges of particle
     // indices (a band of rows on a grid); group B, the seam, every other spring, in spring order.
     // The first B groups share no particle, so they can run at once with the same bits; the seam
@@ -83,7 +90,7 @@ public:
     // spring, in spring order. Group g is passSprings()[passGroupStart()[g] .. [g + 1]).
     int passBlocks() const { return static_cast<int>(passGroupStart_.size()) - 2; }
     const std::vector<Index>& passGroupStart() const { return passGroupStart_; }
-    const std::vector<Spring>& passSprings() const { return passSprings_; }
+    const std::vector<PassSpring>& passSprings() const { return passSprings_; }
 
     Scalar totalMass() const;
     // Identity for solver caches: every model built gets its own id; a copy shares it (a Model
@@ -102,7 +109,7 @@ private:
     std::vector<Index> adjStart_, adjSpring_, adjOther_;
     std::vector<Index> triStart_, triOf_;
     std::vector<Index> passGroupStart_;
-    std::vector<Spring> passSprings_;
+    std::vector<PassSpring> passSprings_;
     int nx_ = 0, ny_ = 0;
     std::uint64_t id_ = 0;
 };
