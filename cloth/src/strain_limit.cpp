@@ -1,57 +1,91 @@
 #include "cloth/strain_limit.h"
 
+#include "simd.h"
+
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
 namespace cloth {
 
+namespace {
+
+// What the pass reads of a spring to decide whether it is over its limit: where its ends'
+// coordinates start in the positions (3 i, 3 j), and the squared length at or under which it is
+// left alone: its limit squared, or just under 1e-24 (no direction to pull along) when that is
+// larger. One compare per spring instead of two products and two compares.
+struct Check {
+    Index xi = 0, xj = 0;
+    Scalar within = 0;
+};
+
+struct PassArgs {
+    const Check* check;
+    const PassSpring* spring;
+    Scalar* x;
+    Scalar* v;
+    const Scalar* m;
+    const std::uint8_t* fixed;
+    Scalar scale, h;
+};
+
+// Springs [begin, end) in order (Gauss-Seidel); returns the corrections.
+CLOTH_SIMD_CLONES int correctRange(const PassArgs& a, Index begin, Index end) {
+    Scalar* x = a.x;
+    Scalar* v = a.v;
+    int count = 0;
+    for (Index k = begin; k < end; ++k) {
+        const Check& c = a.check[k];
+        Scalar *xi = x + c.xi, *xj = x + c.xj;
+        const Scalar dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
+        // Most springs are within the limit: decide on squared lengths, without a square root
+        // (a spring over by a rounding error of the square may be skipped: a correction of ulps).
+        const Scalar L2 = dx * dx + dy * dy + dz * dz;
+        if (L2 <= c.within) continue;
+        const PassSpring& s = a.spring[k];
+        const Scalar limit = a.scale * s.rest, L = std::sqrt(L2);
+        if (L <= limit) continue;
+        const Scalar wi = a.fixed[s.i] ? 0 : 1 / a.m[s.i], wj = a.fixed[s.j] ? 0 : 1 / a.m[s.j];
+        if (wi + wj == 0) continue;
+        const Scalar f = (L - limit) / (L * (wi + wj));  // total shortening, split by 1/m
+        const Scalar cx = f * dx, cy = f * dy, cz = f * dz, ai = wi / a.h, aj = wj / a.h;
+        Scalar *vi = v + c.xi, *vj = v + c.xj;
+        xi[0] += wi * cx, xi[1] += wi * cy, xi[2] += wi * cz;
+        xj[0] -= wj * cx, xj[1] -= wj * cy, xj[2] -= wj * cz;
+        vi[0] += ai * cx, vi[1] += ai * cy, vi[2] += ai * cz;
+        vj[0] -= aj * cx, vj[1] -= aj * cy, vj[2] -= aj * cz;
+        ++count;
+    }
+    return count;
+}
+
+}  // namespace
+
 int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes,
                  Scalar h, State& state, ThreadPool* pool) {
-    const auto& mass = model.masses();
     const auto& springs = model.passSprings();
     const auto& start = model.passGroupStart();
     const Index blocks = model.passBlocks();
-    // Each particle's share of a correction in position (1/m, 0 when pinned) and in velocity
-    // (that / h), once per call rather than per correction: the same values, without four of the
-    // five divisions a correction took.
-    static thread_local std::vector<Scalar> weights;
-    const Index n = model.particleCount();
-    weights.resize(2 * std::size_t(n));
-    for (Index p = 0; p < n; ++p) {
-        const Scalar w = pinned[p] ? 0 : 1 / mass[p];
-        weights[2 * std::size_t(p)] = w, weights[2 * std::size_t(p) + 1] = w / h;
-    }
-    // Springs [begin, end) in order; returns the corrections.
-    Scalar* x = state.x.data();
-    Scalar* v = state.v.data();
-    const Scalar* weight = weights.data();  // a worker naming the thread_local would get its own
-    const PassSpring* spring = springs.data();
+    // The checks, found again only when the model or the limit changes on this thread.
+    static thread_local struct {
+        std::uint64_t model = 0;
+        Scalar maxStretch = -1;
+        std::vector<Check> check;
+    } table;
     const Scalar scale = 1 + maxStretch;
-    auto correct = [=](Index begin, Index end) {
-        int count = 0;
-        for (Index k = begin; k < end; ++k) {
-            const PassSpring& s = spring[k];
-            Scalar *xi = x + 3 * std::size_t(s.i), *xj = x + 3 * std::size_t(s.j);
-            const Scalar dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
-            // Most springs are within the limit: decide on squared lengths, without a square root
-            // (a spring over by a rounding error of the square may be skipped: a correction of ulps).
-            const Scalar limit = scale * s.rest, L2 = dx * dx + dy * dy + dz * dz;
-            if (L2 <= limit * limit || L2 < Scalar(1e-24)) continue;
-            const Scalar L = std::sqrt(L2);
-            if (L <= limit) continue;
-            const Scalar *wi = weight + 2 * std::size_t(s.i), *wj = weight + 2 * std::size_t(s.j);
-            if (wi[0] + wj[0] == 0) continue;
-            const Scalar f = (L - limit) / (L * (wi[0] + wj[0]));  // total shortening, split by 1/m
-            const Scalar cx = f * dx, cy = f * dy, cz = f * dz;
-            Scalar *vi = v + 3 * std::size_t(s.i), *vj = v + 3 * std::size_t(s.j);
-            xi[0] += wi[0] * cx, xi[1] += wi[0] * cy, xi[2] += wi[0] * cz;
-            xj[0] -= wj[0] * cx, xj[1] -= wj[0] * cy, xj[2] -= wj[0] * cz;
-            vi[0] += wi[1] * cx, vi[1] += wi[1] * cy, vi[2] += wi[1] * cz;
-            vj[0] -= wj[1] * cx, vj[1] -= wj[1] * cy, vj[2] -= wj[1] * cz;
-            ++count;
+    if (table.model != model.id() || table.maxStretch != maxStretch) {
+        const Scalar floor = std::nextafter(Scalar(1e-24), Scalar(0));
+        table.check.resize(springs.size());
+        for (std::size_t k = 0; k < springs.size(); ++k) {
+            const Scalar limit = scale * springs[k].rest;
+            table.check[k] = {3 * springs[k].i, 3 * springs[k].j, std::max(limit * limit, floor)};
         }
-        return count;
-    };
+        table.model = model.id(), table.maxStretch = maxStretch;
+    }
+    // Workers get the table through `args` (a worker naming the thread_local gets its own).
+    const PassArgs args{table.check.data(), springs.data(), state.x.data(), state.v.data(), model.masses().data(),
+                        pinned.data(),      scale,          h};
+    auto correct = [&](Index begin, Index end) { return correctRange(args, begin, end); };
     int corrections = 0;
     for (int pass = 0; pass < passes; ++pass) {
         // The blocks (on the pool's threads, which never changes a bit: they share no particle),
