@@ -28,7 +28,7 @@ struct Collider {
 // dropped and its tangential velocity damped by Coulomb friction. Returns whether it moved.
 bool collideParticle(const Collider& c, Scalar thickness, Vec3& x, Vec3& v);
 
-// collideParticle for every particle and collider, particle by particle, colliders in order.
+// collideParticle for every particle and collider, each particle meeting the colliders in order.
 // Pinned particles (flags[i] != 0) are left alone. Returns the number of particles moved (a
 // particle inside two colliders counts once). A collider that cannot reach the bounding box of
 // the free particles is skipped (same results, tested against the loop over every pair). The
