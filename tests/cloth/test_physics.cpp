@@ -584,12 +584,17 @@ TEST(PhysicsCollision, SignedDistanceAndNormalMatchTheShapeGeometry) {
 TEST(PhysicsCollision, ExactlyTheParticlesWithinTheThicknessOfTheGeometryMove) {
     // collideParticle rejects most particles with a cheap test before the signed distance; it
     // must move every particle closer than `thickness` to the surface (this file's geometry) and
-    // no other, also just inside and just outside that shell.
+    // no other, also just inside and just outside that shell. So must resolveCollisions, which
+    // rejects a whole range of particles at once with its own vectorized test.
     const Scalar thickness = 0.05;
     for (const CollisionShape& shape : collisionShapes()) {
         std::mt19937 rng(5);
         int moved = 0, kept = 0, wrong = 0;
         std::string firstWrong;
+        State cloud;
+        cloud.x = Points(3, 2000);
+        cloud.v = Vec3(0.3, -1, 0.2).replicate(1, 2000);
+        std::vector<bool> within(2000);
         for (int k = 0; k < 2000; ++k) {
             Vec3 p = shape.collider.center + randomVec(rng, -1.5, 1.5);
             if (k % 2) {  // onto the shell at `thickness`, then 1e-7 in or out
@@ -597,6 +602,8 @@ TEST(PhysicsCollision, ExactlyTheParticlesWithinTheThicknessOfTheGeometryMove) {
                 p += (thickness - at.distance + (k % 4 == 1 ? -1e-7 : 1e-7)) * at.normal;
             }
             const Scalar distance = shape.surface(shape.collider, p).distance;
+            cloud.x.col(k) = p;
+            within[k] = distance < thickness;
             Vec3 x = p, v = Vec3(0.3, -1, 0.2);
             const bool hit = collideParticle(shape.collider, thickness, x, v);
             (hit ? moved : kept) += 1;
@@ -610,6 +617,12 @@ TEST(PhysicsCollision, ExactlyTheParticlesWithinTheThicknessOfTheGeometryMove) {
         EXPECT_EQ(wrong, 0) << shape.name << ": " << wrong << " of 2000 particles wrong, first " << firstWrong;
         EXPECT_GT(moved, 100) << shape.name;
         EXPECT_GT(kept, 100) << shape.name;
+
+        const Points before = cloud.x;
+        EXPECT_EQ(resolveCollisions({shape.collider}, thickness, nullptr, cloud), moved) << shape.name;
+        int wrongInCloud = 0;
+        for (int k = 0; k < 2000; ++k) wrongInCloud += (cloud.x.col(k) != before.col(k)) != within[k];
+        EXPECT_EQ(wrongInCloud, 0) << shape.name << ": resolveCollisions moved the wrong particles";
     }
 }
 
