@@ -62,33 +62,75 @@ Scalar signedDistance(const Collider& c, const Vec3& p, Vec3* normal) {
 
 namespace {
 
-// True when p is certainly farther than `thickness` from the collider's surface: a cheap test
-// without square roots or divisions that most particles of a flag pass (every one not next to
-// the pole). Conservative by a relative margin far above rounding, so it never skips a particle
-// that signedDistance() would put within `thickness`.
-bool clearOf(const Collider& c, Scalar thickness, const Vec3& p) {
+// The cheap reject: whether a point is certainly farther than `thickness` from the collider's
+// surface, without square roots or divisions (most particles of a flag are: every one not next
+// to the pole). Conservative by a relative margin far above rounding, so it never rejects a point
+// that signedDistance() would put within `thickness`: it only filters, and signedDistance()
+// decides every point it lets through. Prepared once per collider; the tests for one point are
+// inlined into the per-particle check and the vectorized loop over a range (markNear).
+struct Reject {
+    Collider::Shape shape = Collider::Shape::Plane;
+    bool none = true;  // rejects nothing: a plane (signedDistance is as cheap), or a negative reach
+    Scalar cx = 0, cy = 0, cz = 0;
+    Scalar ax = 0, ay = 0, az = 0, half = 0;  // capsule: the segment (a sphere: none)
+    Mat3 R = Mat3::Identity();                // box: its axes and half sizes
+    Vec3 e = Vec3::Zero();
+    Scalar limit = 0;  // sphere, capsule: the squared reach; box: the largest excess along an axis
+};
+
+Reject prepareReject(const Collider& c, Scalar thickness) {
     constexpr Scalar margin = 1e-9;
+    Reject r;
+    r.shape = c.shape;
+    r.cx = c.center.x(), r.cy = c.center.y(), r.cz = c.center.z();
     switch (c.shape) {
-        case Collider::Shape::Plane: return false;  // signedDistance is as cheap
+        case Collider::Shape::Plane: break;
         case Collider::Shape::Sphere:
         case Collider::Shape::Capsule: {
             const Scalar reach = c.radius + thickness;
-            return reach >= 0 && (p - coreNearest(c, p)).squaredNorm() > reach * reach * (1 + margin) + margin;
+            r.none = reach < 0;
+            r.limit = reach * reach * (1 + margin) + margin;
+            if (c.shape == Collider::Shape::Capsule) {
+                r.ax = c.axis.x(), r.ay = c.axis.y(), r.az = c.axis.z();
+                r.half = std::abs(c.halfExtents.x());  // clamp needs low <= high
+            }
+            break;
         }
-        case Collider::Shape::Box: {
-            // Outside the box grown by `thickness` along some local axis: the distance to the
-            // box is at least that axis's excess.
-            const Vec3 q = (c.rotation.transpose() * (p - c.center)).cwiseAbs() - c.halfExtents;
-            return q.maxCoeff() > thickness + margin * (1 + std::abs(thickness) + c.halfExtents.cwiseAbs().maxCoeff());
-        }
+        case Collider::Shape::Box:
+            // Outside the box grown by `thickness` along some local axis: the distance to the box
+            // is at least that axis's excess.
+            r.none = false;
+            r.R = c.rotation, r.e = c.halfExtents;
+            r.limit = thickness + margin * (1 + std::abs(thickness) + c.halfExtents.cwiseAbs().maxCoeff());
+            break;
     }
-    return false;
+    return r;
 }
 
-}  // namespace
+// Sphere or capsule: the squared distance to the segment's nearest point within the reach.
+CLOTH_INLINE inline bool nearCore(const Reject& r, Scalar x, Scalar y, Scalar z) {
+    const Scalar px = x - r.cx, py = y - r.cy, pz = z - r.cz;
+    const Scalar t = std::clamp(px * r.ax + py * r.ay + pz * r.az, -r.half, r.half);
+    const Scalar dx = px - t * r.ax, dy = py - t * r.ay, dz = pz - t * r.az;
+    return dx * dx + dy * dy + dz * dz <= r.limit;
+}
 
-bool collideParticle(const Collider& c, Scalar thickness, Vec3& x, Vec3& v) {
-    if (clearOf(c, thickness, x)) return false;
+CLOTH_INLINE inline bool nearBox(const Reject& r, Scalar x, Scalar y, Scalar z) {
+    const Scalar px = x - r.cx, py = y - r.cy, pz = z - r.cz;
+    const Scalar qx = std::abs(r.R(0, 0) * px + r.R(1, 0) * py + r.R(2, 0) * pz) - r.e.x();
+    const Scalar qy = std::abs(r.R(0, 1) * px + r.R(1, 1) * py + r.R(2, 1) * pz) - r.e.y();
+    const Scalar qz = std::abs(r.R(0, 2) * px + r.R(1, 2) * py + r.R(2, 2) * pz) - r.e.z();
+    return std::max(qx, std::max(qy, qz)) <= r.limit;
+}
+
+bool nearPoint(const Reject& r, const Vec3& p) {
+    if (r.none) return true;
+    return r.shape == Collider::Shape::Box ? nearBox(r, p.x(), p.y(), p.z()) : nearCore(r, p.x(), p.y(), p.z());
+}
+
+// A point that passed the reject: moved out to `thickness` from the surface when within it, its
+// velocity changed as collideParticle() says. Returns whether it moved.
+bool pushOut(const Collider& c, Scalar thickness, Vec3& x, Vec3& v) {
     Vec3 n;
     const Scalar d = signedDistance(c, x, &n) - thickness;
     if (d >= 0) return false;
@@ -105,6 +147,12 @@ bool collideParticle(const Collider& c, Scalar thickness, Vec3& x, Vec3& v) {
     }
     v = c.velocity + rel;
     return true;
+}
+
+}  // namespace
+
+bool collideParticle(const Collider& c, Scalar thickness, Vec3& x, Vec3& v) {
+    return nearPoint(prepareReject(c, thickness), x) && pushOut(c, thickness, x, v);
 }
 
 namespace {
@@ -125,50 +173,21 @@ Scalar distanceLowerBound(const Collider& c, const Vec3& lo, const Vec3& hi) {
 
 namespace {
 
-// clearOf() for the particles [begin, end) at once, without a branch per particle, so that the
-// loop vectorizes: near[i - begin] = 0 for a particle certainly farther than `thickness` from the
-// collider's surface. It is only a filter, conservative by the same margin as clearOf(), and
-// collideParticle() decides every particle it lets through, so its rounding changes no result.
-CLOTH_SIMD_CLONES void markNear(const Collider& c, Scalar thickness, const Scalar* x, Index begin, Index end,
-                                std::uint8_t* near) {
-    constexpr Scalar margin = 1e-9;
-    const Scalar cx = c.center.x(), cy = c.center.y(), cz = c.center.z();
+// The reject for the particles [begin, end) at once, one loop per shape with no branch per
+// particle, so that it vectorizes: near[i - begin] = 0 for a particle certainly farther than
+// `thickness` from the collider's surface.
+CLOTH_SIMD_CLONES void markNear(const Reject& r, const Scalar* x, Index begin, Index end, std::uint8_t* near) {
     const Index count = end - begin;
     x += 3 * std::size_t(begin);
-    switch (c.shape) {
-        case Collider::Shape::Sphere:
-        case Collider::Shape::Capsule: {
-            const Scalar reach = c.radius + thickness;
-            if (reach < 0) break;
-            const Scalar limit = reach * reach * (1 + margin) + margin;
-            const Scalar half = c.shape == Collider::Shape::Capsule ? std::abs(c.halfExtents.x()) : 0;
-            const Scalar ax = c.axis.x(), ay = c.axis.y(), az = c.axis.z();
-            CLOTH_IVDEP
-            for (Index i = 0; i < count; ++i) {
-                const Scalar px = x[3 * i] - cx, py = x[3 * i + 1] - cy, pz = x[3 * i + 2] - cz;
-                const Scalar t = std::clamp(px * ax + py * ay + pz * az, -half, half);
-                const Scalar dx = px - t * ax, dy = py - t * ay, dz = pz - t * az;
-                near[i] = dx * dx + dy * dy + dz * dz <= limit;
-            }
-            return;
-        }
-        case Collider::Shape::Box: {
-            const Scalar limit = thickness + margin * (1 + std::abs(thickness) + c.halfExtents.cwiseAbs().maxCoeff());
-            const Mat3& R = c.rotation;
-            const Vec3& e = c.halfExtents;
-            CLOTH_IVDEP
-            for (Index i = 0; i < count; ++i) {
-                const Scalar px = x[3 * i] - cx, py = x[3 * i + 1] - cy, pz = x[3 * i + 2] - cz;
-                const Scalar qx = std::abs(R(0, 0) * px + R(1, 0) * py + R(2, 0) * pz) - e.x();
-                const Scalar qy = std::abs(R(0, 1) * px + R(1, 1) * py + R(2, 1) * pz) - e.y();
-                const Scalar qz = std::abs(R(0, 2) * px + R(1, 2) * py + R(2, 2) * pz) - e.z();
-                near[i] = std::max(qx, std::max(qy, qz)) <= limit;
-            }
-            return;
-        }
-        case Collider::Shape::Plane: break;  // signedDistance is as cheap
+    if (r.none) {
+        std::fill(near, near + count, std::uint8_t(1));
+    } else if (r.shape == Collider::Shape::Box) {
+        CLOTH_IVDEP
+        for (Index i = 0; i < count; ++i) near[i] = nearBox(r, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    } else {
+        CLOTH_IVDEP
+        for (Index i = 0; i < count; ++i) near[i] = nearCore(r, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
     }
-    std::fill(near, near + count, std::uint8_t(1));
 }
 
 // The box around the particles not flagged pinned (lo > hi with none): minima and maxima are
@@ -204,11 +223,16 @@ int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
         for (std::size_t c = 0; c < colliders.size(); ++c)
             far[c] = distanceLowerBound(colliders[c], lo, hi) - thickness > 1e-9 * (boxScale + colliders[c].center.norm());
     }
+    static thread_local std::vector<Reject> rejects;
+    rejects.clear();
+    for (const Collider& c : colliders) rejects.push_back(prepareReject(c, thickness));
+    // Workers reach these through pointers (a worker naming a thread_local gets its own).
     const std::uint8_t* skip = far.data();
+    const Reject* reject = rejects.data();
     // Collider by collider over a range of particles, each particle meeting the colliders in
-    // order as before (it moves only by its own collisions): first which particles are near the
-    // collider, all at once, then collideParticle() for those. A collider the broad phase skips
-    // still meets the particles an earlier one moved.
+    // order as before (it moves only by its own collisions): first which particles the reject
+    // lets through, all at once, then the rest of collideParticle() for those. A collider the
+    // broad phase skips still meets the particles an earlier one moved.
     auto collide = [&](int begin, int end) {
         static thread_local std::vector<std::uint8_t> near, hit;  // this thread's scratch
         near.resize(end - begin);
@@ -216,11 +240,11 @@ int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
         bool anyHit = false;
         for (std::size_t k = 0; k < colliders.size(); ++k) {
             if (skip[k] && !anyHit) continue;
-            markNear(colliders[k], thickness, state.x.data(), begin, end, near.data());
+            markNear(reject[k], state.x.data(), begin, end, near.data());
             for (Index i = begin; i < end; ++i) {
                 if (!near[i - begin] || (skip[k] && !hit[i - begin]) || (pinnedFlags && (*pinnedFlags)[i])) continue;
                 Vec3 x = state.x.col(i), v = state.v.col(i);
-                if (!collideParticle(colliders[k], thickness, x, v)) continue;
+                if (!pushOut(colliders[k], thickness, x, v)) continue;
                 state.x.col(i) = x;
                 state.v.col(i) = v;
                 hit[i - begin] = 1, anyHit = true;
