@@ -36,18 +36,9 @@ void FastKangCho<T>::prepare(const Model& model) {
     pinned_.resize(n_);
 }
 
+// Marks the pinned particles and stores their velocity changes.
 template <class T>
-void FastKangCho<T>::solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                           bool compressionRule, int iterations, Points& dv, double* forcesMs) {
-    const auto t0 = std::chrono::steady_clock::now();
-    if (modelId_ != model.id()) prepare(model);
-    const T h = T(input.h), h2 = h * h, c = T(env.drag);
-    const T g[3] = {T(env.gravity.x()), T(env.gravity.y()), T(env.gravity.z())};
-    const double* xs = state.x.data();
-    const double* vs = state.v.data();
-    const double* ext = input.externalForce ? input.externalForce->data() : nullptr;
-    const std::vector<Mat3>* damping = input.damping;
-
+void FastKangCho<T>::setPins(const State& state, const StepInput& input) {
     std::fill(pinned_.begin(), pinned_.end(), 0);
     std::fill(pin_.begin(), pin_.end(), T(0));
     for (const Pin& p : input.pins) {
@@ -56,7 +47,12 @@ void FastKangCho<T>::solve(const Model& model, const Environment& env, const Sta
         const Vec3 dv = pinVelocityChange(p, state.x.col(p.particle), state.v.col(p.particle), input.h);
         for (int a = 0; a < 3; ++a) pin_[3 * p.particle + a] = T(dv[a]);
     }
+}
 
+// Computes every spring's direction, Jacobian terms and force magnitude.
+template <class T>
+void FastKangCho<T>::computeSprings(const State& state, bool compressionRule) {
+    const double* xs = state.x.data();
     // Springs: u, the Jacobian's a and b (eqs. 16, 17) and the force magnitude (eq. 15).
     pool_.run(springs_, [&](int begin, int end) {
         for (int s = begin; s < end; ++s) {
@@ -66,7 +62,16 @@ void FastKangCho<T>::solve(const Model& model, const Environment& env, const Sta
             ux_[s] = t.ux, uy_[s] = t.uy, uz_[s] = t.uz, a_[s] = t.a, b_[s] = t.b, fm_[s] = t.fm;
         }
     });
+}
 
+// Assembles every particle's right-hand side and inverse diagonal block, and the first guess.
+template <class T>
+void FastKangCho<T>::assembleParticles(const Environment& env, const State& state, const StepInput& input) {
+    const T h = T(input.h), h2 = h * h, c = T(env.drag);
+    const T g[3] = {T(env.gravity.x()), T(env.gravity.y()), T(env.gravity.z())};
+    const double* vs = state.v.data();
+    const double* ext = input.externalForce ? input.externalForce->data() : nullptr;
+    const std::vector<Mat3>* damping = input.damping;
     // Particles: f, W_ii (eq. 12), b_i (eq. 7 with pinned columns), W_ii^-1 and dv(0) (eq. 11).
     pool_.run(n_, [&](int begin, int end) {
         for (int i = begin; i < end; ++i) {
@@ -115,8 +120,11 @@ void FastKangCho<T>::solve(const Model& model, const Environment& env, const Sta
             symmetricTimes(w, r, d);
         }
     });
-    if (forcesMs) *forcesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 
+// Runs the Jacobi iterations; the result ends up in dvA_.
+template <class T>
+void FastKangCho<T>::jacobiSweeps(T h2, int iterations) {
     // Jacobi sweeps (eq. 11; one sweep is eq. 14): dv_i = W_ii^-1 (b_i + h^2 sum_{j free} J dv_j).
     for (int k = 0; k < iterations; ++k) {
         pool_.run(n_, [&](int begin, int end) {
@@ -144,6 +152,20 @@ void FastKangCho<T>::solve(const Model& model, const Environment& env, const Sta
         });
         std::swap(dvA_, dvB_);
     }
+}
+
+template <class T>
+void FastKangCho<T>::solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
+                           bool compressionRule, int iterations, Points& dv, double* forcesMs) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (modelId_ != model.id()) prepare(model);
+    setPins(state, input);
+    computeSprings(state, compressionRule);
+    assembleParticles(env, state, input);
+    if (forcesMs) *forcesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+    const T h = T(input.h);
+    jacobiSweeps(h * h, iterations);
     dv.resize(3, n_);
     double* out = dv.data();
     for (std::size_t k = 0; k < dvA_.size(); ++k) out[k] = double(dvA_[k]);

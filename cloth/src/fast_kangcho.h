@@ -25,6 +25,10 @@ public:
 
 private:
     void prepare(const Model& model);
+    void setPins(const State& state, const StepInput& input);
+    void computeSprings(const State& state, bool compressionRule);
+    void assembleParticles(const Environment& env, const State& state, const StepInput& input);
+    void jacobiSweeps(T h2, int iterations);
     int n_ = 0, springs_ = 0;
     // Topology, per adjacency entry: spring, other end, sign of u as seen from this particle.
     std::vector<int> adjStart_, adjSpring_, adjOther_;
