@@ -291,24 +291,26 @@ void StencilKangCho<T>::prepare(const Model& model) {
     dampingLoaded_ = false;
 }
 
+// Copies the state into the padded arrays and computes the force that does not come from springs:
+// m (g - c v) + external.
 template <class T>
-void StencilKangCho<T>::solve(const Model& model, const Environment& env, const State& state,
-                              const StepInput& input, bool compressionRule, int iterations, Points& dv,
-                              double* forcesMs) {
-    const auto t0 = std::chrono::steady_clock::now();
-    if (modelId_ != model.id()) prepare(model);
-    const int n = n_, pad = pad_, nf = int(offsets_.size());
-    const T h = T(input.h), c = T(env.drag);
+void StencilKangCho<T>::loadFields(const Environment& env, const State& state, const StepInput& input) {
+    const int n = n_, pad = pad_;
+    const T c = T(env.drag);
     const T g[3] = {T(env.gravity.x()), T(env.gravity.y()), T(env.gravity.z())};
     const double* xs = state.x.data();
     const double* vs = state.v.data();
     const double* ext = input.externalForce ? input.externalForce->data() : nullptr;
-
-    // Structure of arrays, and the force that does not come from springs: m (g - c v) + external.
     LoadArgs<T> la{xs, vs, ext, mass_.at(pad), x_[0].at(pad), x_[1].at(pad), x_[2].at(pad), v_[0].at(pad),
                    v_[1].at(pad), v_[2].at(pad), w_[0].at(pad), w_[1].at(pad), w_[2].at(pad), f0_[0].at(pad),
                    f0_[1].at(pad), f0_[2].at(pad), {g[0], g[1], g[2]}, c};
     forBlocks(n, [&](int begin, int end) { loadState(la, begin, end); });
+}
+
+// Clears the last step's pins and sets this step's: their prescribed dv, and w = v + dv.
+template <class T>
+void StencilKangCho<T>::setPins(const State& state, const StepInput& input) {
+    const int n = n_, pad = pad_;
     for (const int i : pinnedList_) {  // clear the last step's pins only
         pinned_.at(pad)[i] = T(0);
         for (Field& f : pin_) f.at(pad)[i] = T(0);
@@ -325,8 +327,12 @@ void StencilKangCho<T>::solve(const Model& model, const Environment& env, const 
             w_[a].at(pad)[i] = v_[a].at(pad)[i] + pin_[a].at(pad)[i];
         }
     }
+}
 
-    // h C_i of an implicit external force (zero when there is none).
+// Loads h C_i of an implicit external force (zero when there is none).
+template <class T>
+void StencilKangCho<T>::loadDamping(const StepInput& input, T h) {
+    const int n = n_, pad = pad_;
     if (input.damping || dampingLoaded_) {
         static constexpr int kRow[6] = {0, 0, 0, 1, 1, 2}, kCol[6] = {0, 1, 2, 1, 2, 2};
         for (int e = 0; e < 6; ++e) {
@@ -336,8 +342,12 @@ void StencilKangCho<T>::solve(const Model& model, const Environment& env, const 
         }
         dampingLoaded_ = input.damping != nullptr;
     }
+}
 
-    // Springs, one contiguous loop per family.
+// Computes u, a, b and the force magnitude of every spring, one contiguous loop per family.
+template <class T>
+void StencilKangCho<T>::computeSprings(bool compressionRule) {
+    const int n = n_, pad = pad_, nf = int(offsets_.size());
     forBlocks(n, [&](int begin, int end) {
         for (int f = 0; f < nf; ++f) {
             Family& F = families_[f];
@@ -346,7 +356,31 @@ void StencilKangCho<T>::solve(const Model& model, const Environment& env, const 
                             F.fm.at(pad), begin, end);
         }
     });
+}
 
+// Writes dv back in the state's layout; pinned particles take their prescribed change.
+template <class T>
+void StencilKangCho<T>::writeResult(Points& dv) {
+    const int n = n_, pad = pad_;
+    dv.resize(3, n);
+    double* out = dv.data();
+    forBlocks(n, [&](int begin, int end) { storeDv<T>(dvA_, pin_, pinned_.at(pad), pad, out, begin, end); });
+}
+
+template <class T>
+void StencilKangCho<T>::solve(const Model& model, const Environment& env, const State& state,
+                              const StepInput& input, bool compressionRule, int iterations, Points& dv,
+                              double* forcesMs) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (modelId_ != model.id()) prepare(model);
+    const int n = n_, pad = pad_, nf = int(offsets_.size());
+    const T h = T(input.h), c = T(env.drag);
+    loadFields(env, state, input);
+    setPins(state, input);
+    loadDamping(input, h);
+    computeSprings(compressionRule);
+
+    // Per particle: b_i, W_ii^-1 and dv(0).
     FamilyView<T> views[kMaxFamilies] = {};
     for (int f = 0; f < nf; ++f) {
         Family& F = families_[f];
@@ -367,6 +401,7 @@ void StencilKangCho<T>::solve(const Model& model, const Environment& env, const 
     forBlocks(n, [&](int begin, int end) { particleKernel(pa, begin, end); });
     if (forcesMs) *forcesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
+    // Jacobi sweeps from dv(0).
     SweepArgs<T> sa;
     sa.fam = views, sa.families = nf;
     sa.rx = pa.rx, sa.ry = pa.ry, sa.rz = pa.rz;
@@ -380,10 +415,7 @@ void StencilKangCho<T>::solve(const Model& model, const Environment& env, const 
         for (int a = 0; a < 3; ++a) std::swap(dvA_[a], dvB_[a]);
     }
 
-    // Back to the state's layout; pinned particles take their prescribed change.
-    dv.resize(3, n);
-    double* out = dv.data();
-    forBlocks(n, [&](int begin, int end) { storeDv<T>(dvA_, pin_, pinned_.at(pad), pad, out, begin, end); });
+    writeResult(dv);
 }
 
 template class StencilKangCho<float>;

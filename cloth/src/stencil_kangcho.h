@@ -42,6 +42,11 @@ public:
 
 private:
     void prepare(const Model& model);
+    void loadFields(const Environment& env, const State& state, const StepInput& input);
+    void setPins(const State& state, const StepInput& input);
+    void loadDamping(const StepInput& input, T h);
+    void computeSprings(bool compressionRule);
+    void writeResult(Points& dv);
     template <class Fn>
     void forBlocks(int n, const Fn& fn);
 
