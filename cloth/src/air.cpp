@@ -55,6 +55,37 @@ CLOTH_IVDEP
     }
 }
 
+// One triangle's share of -dF/dv (zero for a degenerate triangle or no relative air).
+Mat3 triangleBlock(const State& state, const Triangle& t, const Vec3& wind, const AirParams& air,
+                   Scalar quarterRho) {
+    const Vec3 a = state.x.col(t[0]), b = state.x.col(t[1]), c = state.x.col(t[2]);
+    const Vec3 N = (b - a).cross(c - a);
+    const Vec3 w = wind - (state.v.col(t[0]) + state.v.col(t[1]) + state.v.col(t[2])) / 3;
+    const Scalar twiceArea = N.norm(), s = w.norm();
+    if (twiceArea < 1e-14 || s < 1e-9) return Mat3::Zero();
+    // dF/dw with n fixed (n depends on x only): ds/dw = w^T / s, d(wn)/dw = n^T.
+    const Scalar halfRho = 2 * quarterRho, area = Scalar(0.5) * twiceArea;
+    const Scalar cd = halfRho * area * air.dragCoefficient;
+    const Scalar cf = halfRho * area * air.frictionCoefficient;
+    const Scalar cl = halfRho * area * air.liftCoefficient;
+    const Vec3 nHat = N / twiceArea;
+    const Scalar wn = w.dot(nHat);
+    const Vec3 tangential = w - wn * nHat;
+    const Mat3 I = Mat3::Identity(), nn = nHat * nHat.transpose(), nw = nHat * w.transpose();
+    const Mat3 dDrag = cd * ((wn / s) * nw + s * nn);
+    const Mat3 dFriction = cf * (tangential * w.transpose() / s + s * (I - nn));
+    const Mat3 dLift = cl * (s * nn + (wn / s) * nw - (2 * wn / s) * nw.transpose() +
+                             (wn * wn / (s * s * s)) * (w * w.transpose()) - (wn * wn / s) * I);
+    // f_i = F / 3 and dw/dv_i = -I / 3.
+    return -(dDrag + dFriction + dLift) / 9;
+}
+
+// A loop over [0, size) on the pool's threads when it has more than one, else here.
+void runLoop(ThreadPool* pool, Index size, const std::function<void(int, int)>& body) {
+    if (pool && pool->threads() > 1) pool->run(int(size), body);
+    else body(0, int(size));
+}
+
 }  // namespace
 
 void addAirForces(const Model& model, const State& state, const AirParams& air, Points& f,
@@ -71,35 +102,6 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
     const Scalar friction = air.frictionCoefficient, lift = air.liftCoefficient;
     const auto& triangles = model.triangles();
     const Index count = Index(triangles.size()), n = model.particleCount();
-    // One triangle's share of -dF/dv (zero for a degenerate triangle or no relative air).
-    auto triangleBlock = [&](Index k) -> Mat3 {
-        const Triangle& t = triangles[k];
-        const Vec3 a = state.x.col(t[0]), b = state.x.col(t[1]), c = state.x.col(t[2]);
-        const Vec3 N = (b - a).cross(c - a);
-        const Vec3 w = wind - (state.v.col(t[0]) + state.v.col(t[1]) + state.v.col(t[2])) / 3;
-        const Scalar twiceArea = N.norm(), s = w.norm();
-        if (twiceArea < 1e-14 || s < 1e-9) return Mat3::Zero();
-        // dF/dw with n fixed (n depends on x only): ds/dw = w^T / s, d(wn)/dw = n^T.
-        const Scalar halfRho = 2 * quarterRho, area = Scalar(0.5) * twiceArea;
-        const Scalar cd = halfRho * area * air.dragCoefficient;
-        const Scalar cf = halfRho * area * air.frictionCoefficient;
-        const Scalar cl = halfRho * area * air.liftCoefficient;
-        const Vec3 nHat = N / twiceArea;
-        const Scalar wn = w.dot(nHat);
-        const Vec3 tangential = w - wn * nHat;
-        const Mat3 I = Mat3::Identity(), nn = nHat * nHat.transpose(), nw = nHat * w.transpose();
-        const Mat3 dDrag = cd * ((wn / s) * nw + s * nn);
-        const Mat3 dFriction = cf * (tangential * w.transpose() / s + s * (I - nn));
-        const Mat3 dLift = cl * (s * nn + (wn / s) * nw - (2 * wn / s) * nw.transpose() +
-                                 (wn * wn / (s * s * s)) * (w * w.transpose()) - (wn * wn / s) * I);
-        // f_i = F / 3 and dw/dv_i = -I / 3.
-        return -(dDrag + dFriction + dLift) / 9;
-    };
-    // A loop over [0, size) on the pool's threads when it has more than one, else here.
-    auto run = [&](Index size, const std::function<void(int, int)>& body) {
-        if (pool && pool->threads() > 1) pool->run(int(size), body);
-        else body(0, int(size));
-    };
     // Every triangle's share (and block), then each particle's sum over its triangles in increasing
     // order: the bits of a loop over the triangles adding to their corners, whatever the threads,
     // and no two threads write one place. The per-triangle arrays are reached through pointers: a
@@ -109,7 +111,7 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
     shareX.resize(count), shareY.resize(count), shareZ.resize(count);
     const ShareArgs args{triangles.data(), state.x.data(), state.v.data(), wind.x(), wind.y(), wind.z(),
                          quarterRho / 3, normal, friction, lift, shareX.data(), shareY.data(), shareZ.data()};
-    run(count, [&](int begin, int end) { triangleShares(args, begin, end); });
+    runLoop(pool, count, [&](int begin, int end) { triangleShares(args, begin, end); });
     Mat3* jacobian = nullptr;
     const Mat3* block = nullptr;
     if (velocityJacobian) {
@@ -117,8 +119,8 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
         jacobian = velocityJacobian->data();
         blocks.resize(count);
         Mat3* out = blocks.data();
-        run(count, [&](int begin, int end) {
-            for (Index k = begin; k < end; ++k) out[k] = triangleBlock(k);
+        runLoop(pool, count, [&](int begin, int end) {
+            for (Index k = begin; k < end; ++k) out[k] = triangleBlock(state, triangles[k], wind, air, quarterRho);
         });
         block = blocks.data();
     }
@@ -126,7 +128,7 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
     const Index* of = model.triOf().data();
     Scalar* force = f.data();
     const Scalar *sx = shareX.data(), *sy = shareY.data(), *sz = shareZ.data();
-    run(n, [=](int begin, int end) {
+    runLoop(pool, n, [=](int begin, int end) {
         for (Index p = begin; p < end; ++p) {
             Scalar fx = force[3 * p], fy = force[3 * p + 1], fz = force[3 * p + 2];
             for (Index k = start[p]; k < start[p + 1]; ++k) {
