@@ -5,6 +5,9 @@
     tools/study/check_study.py --newton out/study  (also: Newton's three solvers at every scene and size,
                                                     and at every extreme case and size it was given)
     tools/study/check_study.py --extremes DIR (only: the demo's default in the extreme cases)
+    tools/study/check_study.py --docs [DIR]   (only: every finding of docs/study.md and
+                                               docs/multigrid.md against the committed CSVs in
+                                               DIR, default docs/study; one line per finding)
 """
 import csv
 import os
@@ -100,10 +103,11 @@ def check_newton_extremes(d):
 
 def check_extremes(d):
     """The demo's default configuration: stable in all six extreme cases at every flag size the run
-    has (33x33 in the quick study, 33x33 and 65x65 in the full one). Since session 21's default
-    (the paper's step in float, tethers at 3%, 4 anti-stretch passes) this includes the 10 g stop,
-    which the default before it lost in 3 of 6 runs with air densities 1.2 +- 3e-4; the new one
-    held in all 12 (6 densities x 2 sizes, docs/study.md, session 21)."""
+    has (33x33 in the quick study, 33x33 and 65x65 in the full one). This includes the 10 g stop,
+    which the previous default (double, tethers at 10%, 8 anti-stretch passes) lost in 3 of 6 runs
+    with air densities 1.2 +- 3e-4 (docs/study/pass_order_extreme.csv); the current one (float,
+    tethers at 2%, 4 passes) holds all 72 runs of docs/study/default_candidates_extreme.csv
+    (--docs checks that: default_stable_all_extremes)."""
     with open(os.path.join(d, "extreme.csv"), newline="") as f:
         reader = csv.DictReader(f)
         missing = [c for c in EXTREME_COLUMNS if c not in reader.fieldnames]
@@ -126,8 +130,560 @@ def check_extremes(d):
         print(f"{d}/extreme.csv: the demo's default configuration is stable in all six extreme cases at "
               f"{size}x{size}; p99 stretch " + ", ".join(f"{r['case']} {float(r['p99_stretch']):.0%}" for r in at))
 
+# ---------------------------------------------------------------------------------------------
+# --docs: the findings of docs/study.md and docs/multigrid.md, each against the committed CSVs in
+# docs/study/. Each check is named; the docs cite it ("guarded by `check_study.py --docs`: name").
+# A check returns the line it prints, or raises Finding with what the CSV shows instead.
+
+class Finding(Exception):
+    pass
+
+
+DEMO_DEFAULT = "kangcho:iterations=1,precision=float,strain_limit=0.1,strain_passes=4,tether=0.02"
+CASES = ["speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"]
+MAIN_K, MAIN_H = "10000", "0.00416667"
+
+
+class Docs:
+    """The committed CSVs of one folder, read once each."""
+
+    def __init__(self, d):
+        self.d = d
+        self.cache = {}
+
+    def rows(self, name):
+        if name not in self.cache:
+            path = os.path.join(self.d, name)
+            try:
+                with open(path, newline="") as f:
+                    self.cache[name] = list(csv.DictReader(f))
+            except OSError as e:
+                raise Finding(f"cannot read {path}: {e}")
+        return self.cache[name]
+
+
+def need(ok, what):
+    if not ok:
+        raise Finding(what)
+
+
+def one(rows, what, **match):
+    """The single row whose columns equal `match`."""
+    hits = [r for r in rows if all(r[k] == v for k, v in match.items())]
+    need(len(hits) == 1, f"{what}: {len(hits)} rows with {match}, expected 1")
+    return hits[0]
+
+
+def evr(docs, scene, size, solver, k=MAIN_K, h=MAIN_H):
+    return one(docs.rows("error_vs_runtime.csv"), "error_vs_runtime.csv", scene=scene, size=str(size),
+               stiffness=k, h=h, solver=solver)
+
+
+def ext(docs, config, case, size, name="extreme.csv"):
+    return one(docs.rows(name), name, config=config, case=case, size=str(size))
+
+
+def stable(r):
+    return r["stable"] == "1"
+
+
+def pct(v):
+    return f"{num(v):.0%}"
+
+
+def c_paper_step_leaves_solve_error(docs):
+    errs = [num(evr(docs, s, n, "kangcho:iterations=1")["solve_error"])
+            for s in ("hanging_flag", "vehicle_path") for n in (17, 33, 65, 129)]
+    need(min(errs) >= 0.98, f"the paper's step's solve error is down to {min(errs)} (docs: >= 0.98 everywhere)")
+    return f"the paper's step leaves a solve error of {min(errs)}-{max(errs)} (both scenes, 17-129)"
+
+
+def c_paper_step_stretches_moving_flag(docs):
+    out = []
+    for n in (17, 33):
+        p, e = evr(docs, "vehicle_path", n, "kangcho:iterations=1"), evr(docs, "vehicle_path", n, "exact")
+        need(stable(p) and num(p["max_stretch"]) > 0.7 and num(e["max_stretch"]) < 0.03,
+             f"vehicle path {n}x{n}: paper's step max stretch {p['max_stretch']} (stable {p['stable']}), "
+             f"exact {e['max_stretch']} (docs: > 70% against < 3%)")
+        out.append(f"{n}x{n} {pct(p['max_stretch'])} against exact {pct(e['max_stretch'])}")
+    return "vehicle path max stretch, " + ", ".join(out)
+
+
+def c_paper_step_unstable_fine_vehicle_path(docs):
+    for n in (65, 129):
+        for it in (0, 1, 2, 3, 4, 8, 16):
+            r = evr(docs, "vehicle_path", n, f"kangcho:iterations={it}")
+            need(not stable(r), f"vehicle path {n}x{n}: kangcho:iterations={it} is stable (docs: every Jacobi count blows up)")
+        for sv in ("chebyshev:iterations=3", "chebyshev:iterations=8", "cg:iterations=2", "cg:iterations=5", "cg:iterations=20"):
+            need(not stable(evr(docs, "vehicle_path", n, sv)), f"vehicle path {n}x{n}: {sv} is stable (docs: it blows up)")
+        for sv in ("desbrun", "multigrid", "multigrid:cycles=1", "multigrid:cycles=2", "multigrid:krylov=none",
+                   "multigrid:coarse=rediscretize", "exact" if n == 65 else "exact:method=multigrid"):
+            need(stable(evr(docs, "vehicle_path", n, sv)), f"vehicle path {n}x{n}: {sv} is unstable (docs: it survives)")
+    need(stable(evr(docs, "vehicle_path", 65, "explicit:substeps=100")), "vehicle path 65x65: 100 explicit substeps unstable")
+    return ("vehicle path 65x65 and 129x129: every Jacobi count, Chebyshev and capped CG blow up; "
+            "exact, Desbrun, every multigrid variant (and 100 explicit substeps at 65x65) survive")
+
+
+def c_multigrid_matches_exact_stretch(docs):
+    out = []
+    for n in (17, 33, 65, 129):
+        m = evr(docs, "vehicle_path", n, "multigrid")
+        e = evr(docs, "vehicle_path", n, "exact" if n < 129 else "exact:method=multigrid")
+        ratio = num(m["max_stretch"]) / num(e["max_stretch"])
+        need(stable(m) and num(m["solve_error"]) <= 0.02 and 0.93 <= ratio <= 1.07
+             and num(m["p99_stretch"]) <= num(e["p99_stretch"]),
+             f"vehicle path {n}x{n}: multigrid solve error {m['solve_error']}, max stretch {ratio:.3f}x exact's, "
+             f"p99 {m['p99_stretch']} against {e['p99_stretch']} (docs: <= 0.02, within 7%, p99 at most exact's)")
+        out.append(f"{n}: {ratio:.2f}x")
+    return "adaptive multigrid on the vehicle path: solve error <= 0.02, max stretch / exact's " + ", ".join(out)
+
+
+def c_even_jacobi_counts_blow_up(docs):
+    for it, ok in ((0, False), (1, True), (2, False), (3, True), (4, False), (8, False), (16, True)):
+        r = evr(docs, "hanging_flag", 17, f"kangcho:iterations={it}")
+        need(stable(r) == ok, f"hanging flag 17x17: kangcho:iterations={it} stable={r['stable']} (docs: {ok})")
+    scan = [r for r in docs.rows("error_vs_runtime.csv") if r["scene"] == "hanging_flag" and r["size"] == "17"]
+    cells = {(r["stiffness"], r["h"]) for r in scan}
+    need(len(cells) == 30, f"the 17x17 scan has {len(cells)} (k, h) cells, docs say 30")
+    want = {"kangcho:iterations=1": 29, "kangcho:iterations=3": 29, "kangcho:iterations=16": 29,
+            "kangcho:iterations=2": 8, "kangcho:iterations=4": 12, "kangcho:iterations=8": 22,
+            "chebyshev:iterations=3": 13, "chebyshev:iterations=8": 5, "cg:iterations=2": 29, "cg:iterations=5": 29,
+            "cg:iterations=20": 29, "multigrid": 29, "multigrid:cycles=1": 29, "multigrid:cycles=2": 29}
+    for sv, n in want.items():
+        got = sum(stable(r) for r in scan if r["solver"] == sv)
+        need(got == n, f"17x17 scan: {sv} stable in {got} of 30 cells (docs: {n})")
+    return "17x17: 0, 2, 4, 8 Jacobi iterations blow up, 1, 3, 16 do not; scan: 1/3/16 stable in 29 of 30 cells, 2 in 8, 4 in 12, 8 in 22"
+
+
+def c_eq17_needed_on_moving_flag(docs):
+    for n in (17, 33, 65, 129):
+        need(stable(evr(docs, "hanging_flag", n, "kangcho:iterations=1,compression=off")),
+             f"hanging flag {n}x{n}: one iteration without eq. 17 is unstable (docs: stable)")
+        need(not stable(evr(docs, "vehicle_path", n, "kangcho:iterations=1,compression=off")),
+             f"vehicle path {n}x{n}: one iteration without eq. 17 is stable (docs: it blows up)")
+    return "one iteration without eq. 17: stable on the hanging flag, blows up on the vehicle path at every size"
+
+
+def c_desbrun_robust_but_damped(docs):
+    scan = [r for r in docs.rows("error_vs_runtime.csv")
+            if r["scene"] == "hanging_flag" and r["size"] == "17" and r["solver"] == "desbrun"]
+    need(len(scan) == 30 and all(stable(r) for r in scan), "Desbrun is not stable in all 30 scan cells")
+    for s in ("hanging_flag", "vehicle_path"):
+        for n in (17, 33, 65, 129):
+            r = evr(docs, s, n, "desbrun")
+            need(stable(r), f"{s} {n}x{n}: Desbrun unstable")
+            if s == "vehicle_path":
+                need(num(r["max_stretch"]) < 0.003 and num(r["solve_error"]) >= 1.28,
+                     f"vehicle path {n}x{n}: Desbrun max stretch {r['max_stretch']}, solve error {r['solve_error']}")
+                if n < 129:
+                    need(num(r["traj_error_be"]) >= 0.12, f"vehicle path {n}x{n}: Desbrun trajectory error {r['traj_error_be']} < 0.12")
+    return "Desbrun: stable in all 30 scan cells and every size; vehicle path stretch < 0.3%, solve error >= 1.28, trajectory error >= 12%"
+
+
+def c_bullet_tears(docs):
+    for n, it, ok in ((33, 1, False), (65, 1, False), (129, 1, False), (33, 10, True), (65, 10, True), (129, 10, False)):
+        r = evr(docs, "hanging_flag", n, f"bullet:iterations={it}")
+        need(stable(r) == ok, f"hanging flag {n}x{n}: bullet:iterations={it} stable={r['stable']} (docs: {ok})")
+    r = evr(docs, "hanging_flag", 65, "bullet:iterations=10")
+    return f"btSoftBody: 1 iteration tears at 33-129; 10 hold 33 and 65 (max stretch {pct(r['max_stretch'])} at 65), tear at 129"
+
+
+def c_soft_flag_tiny_step_at_bound(docs):
+    r = evr(docs, "hanging_flag", 17, "exact", k="10", h="0.001")
+    need(not stable(r) and num(r["max_stretch"]) >= 0.99, f"k=10, h=1/1000: exact stable={r['stable']}, max stretch {r['max_stretch']}")
+    return f"k = 10 N/m, h = 1/1000 s: the exact solve sags to max stretch {r['max_stretch']} (the bound)"
+
+
+def c_newton_solvers_as_documented(docs):
+    rows = docs.rows("newton.csv")
+    sty = [r for r in rows if r["family"] == "newton_style3d"]
+    need(len(sty) == 8 and all(stable(r) for r in sty), "Style3D is not stable at every size of both scenes")
+    vbd = {(r["scene"], r["size"]): stable(r) for r in rows if r["family"] == "newton_vbd"}
+    want = {("hanging_flag", "17"): True, ("hanging_flag", "33"): True, ("vehicle_path", "17"): True}
+    for key, ok in vbd.items():
+        need(ok == want.get(key, False), f"newton.csv VBD {key}: stable={ok}")
+    xp = [r for r in rows if r["family"] == "newton_xpbd" and r["size"] in ("65", "129")]
+    need(all(not stable(r) and "substeps" in r["note"] for r in xp), "XPBD at 65/129 ran or gave no reason")
+    return "Newton: Style3D stable at every size of both scenes; VBD only at 17x17 and the hanging 33x33 flag; XPBD refuses 65 and 129"
+
+
+def c_soft_flag_linear_solves_fail(docs):
+    out = []
+    for cfg in ("exact", "multigrid"):
+        for case in ("speed_50mps", "gale_40mps"):
+            r = ext(docs, cfg, case, 33)
+            need(not stable(r) and num(r["p99_stretch"]) > 0.5, f"extreme.csv {cfg} {case} 33: stable={r['stable']} p99 {r['p99_stretch']}")
+            out.append(f"{cfg} {case} p99 {pct(r['p99_stretch'])}")
+    return "the soft flag's linear solve fails at 33x33: " + ", ".join(out)
+
+
+def c_stiff_multigrid_matches_exact(docs):
+    worst = 0
+    for n in (33, 65):
+        for case in CASES:
+            m, e = ext(docs, "stiff_default", case, n), ext(docs, "stiff_exact", case, n)
+            need(m["stable"] == e["stable"], f"extreme.csv {case} {n}: stiff_default stable={m['stable']}, stiff_exact {e['stable']}")
+            ratio = num(m["p99_stretch"]) / num(e["p99_stretch"])
+            need(0.75 <= ratio <= 1.35, f"extreme.csv {case} {n}: stiff_default p99 {ratio:.2f}x stiff_exact's")
+            worst = max(worst, abs(ratio - 1))
+    for r in docs.rows("multigrid_start_extreme.csv"):
+        need(stable(r), f"multigrid_start_extreme.csv: the stiff flag's current default unstable in {r['case']} {r['size']}")
+    return (f"the stiff flag on adaptive multigrid is stable where its exact solve is, p99 within {worst:.0%} of it; "
+            "the current default (multigrid_start_extreme.csv) is stable in all 12")
+
+
+def c_stiff_flag_fails_gale(docs):
+    out = []
+    for cfg in ("stiff_default", "stiff_exact"):
+        r = ext(docs, cfg, "gale_40mps", 33)
+        need(num(r["p99_stretch"]) > 1.0 and num(r["peak_stretch"]) > 1.5,
+             f"extreme.csv {cfg} gale 33: p99 {r['p99_stretch']}, peak {r['peak_stretch']} (documented failure: > 100% / 150%)")
+        out.append(f"{cfg} {pct(r['p99_stretch'])} / {pct(r['peak_stretch'])}")
+    r = one(docs.rows("multigrid_start_extreme.csv"), "multigrid_start_extreme.csv", case="gale_40mps", size="33")
+    need(num(r["p99_stretch"]) > 1.0, f"multigrid_start_extreme.csv gale 33: p99 {r['p99_stretch']} (documented: > 100%)")
+    return "documented failure, the stiff flag in the 40 m/s gale at 33x33, p99 / peak: " + ", ".join(out)
+
+
+def c_stiff_flag_fails_light_particles(docs):
+    for cfg in ("stiff_default", "stiff_exact"):
+        for n in (33, 65):
+            r = ext(docs, cfg, "light_particles", n)
+            need(not stable(r), f"extreme.csv {cfg} light particles {n}: stable (documented: unstable)")
+    peaks = []
+    for n in ("33", "65"):
+        r = one(docs.rows("multigrid_start_extreme.csv"), "multigrid_start_extreme.csv", case="light_particles", size=n)
+        need(num(r["peak_stretch"]) > 1.5, f"multigrid_start_extreme.csv light particles {n}: peak {r['peak_stretch']} (documented: > 150%)")
+        peaks.append(pct(r["peak_stretch"]))
+    return f"documented failure, the stiff flag with light particles: unstable in extreme.csv; current default peaks {' / '.join(peaks)} at 33 / 65"
+
+
+def c_newton_nonlinear_holds_gale(docs):
+    rows = docs.rows("newton_extreme.csv")
+    worst = 0
+    for cfg in ("newton_xpbd", "newton_style3d"):
+        for n in ("33", "65"):
+            r = one(rows, "newton_extreme.csv", config=cfg, case="gale_40mps", size=n)
+            need(stable(r) and num(r["p99_stretch"]) <= 0.25, f"newton_extreme.csv {cfg} gale {n}: p99 {r['p99_stretch']}")
+            worst = max(worst, num(r["p99_stretch"]))
+    e = ext(docs, "exact", "gale_40mps", 33)
+    need(num(e["p99_stretch"]) > 1.5, f"extreme.csv exact gale 33: p99 {e['p99_stretch']}")
+    return f"XPBD and Style3D hold the soft flag in the gale at p99 <= {worst:.0%}; our exact linearized solve: {pct(e['p99_stretch'])}"
+
+
+def c_teleport_rules_out_bounds(docs):
+    surv = [r for r in docs.rows("extreme.csv") if r["case"] == "teleport_1m" and stable(r)]
+    surv += [r for r in docs.rows("newton_extreme.csv") if r["case"] == "teleport_1m" and stable(r)]
+    lo = min(num(r["p99_stretch"]) for r in surv)
+    need(lo >= 0.5, f"a configuration survives the teleport with p99 {lo} (docs: >= 50% for every one)")
+    d = [r for r in docs.rows("default_candidates_extreme.csv") if r["config"] == DEMO_DEFAULT and r["case"] == "teleport_1m"]
+    need(d and min(num(r["p99_stretch"]) for r in d) >= 0.5, "the demo default's teleport p99 is under 50%")
+    return f"every configuration that survives the teleport has p99 >= {lo:.0%} (the jump's own tick)"
+
+
+def c_larger_steps_lose_stiff_flag(docs):
+    rows = docs.rows("cloth_rate_extreme.csv")
+    def st(v, n, case):
+        return stable(one(rows, "cloth_rate_extreme.csv", variant=v, size=str(n), case=case))
+    for n in (33, 65):
+        need(not st("stiff_120", n, "speed_50mps") and not st("stiff_120", n, "light_particles"),
+             f"stiff flag at 120 Hz, {n}x{n}: stable at 50 m/s or with light particles")
+        need(not st("stiff_60", n, "gale_40mps"), f"stiff flag at 60 Hz, {n}x{n}: stable in the gale")
+    soft = [sum(not st("soft_60", n, c) for c in CASES) for n in (33, 65)]
+    need(soft[0] >= 4 and soft[1] >= 5, f"soft flag at 60 Hz unstable in {soft} cases at 33/65 (docs: 4 and 5)")
+    return "one cloth step per 120 or 60 Hz tick loses the stiff flag at 50 m/s and with light particles (and the gale at 60 Hz)"
+
+
+def c_tethers_alone_fail(docs):
+    rows = docs.rows("tethers_extreme.csv")
+    out = []
+    for v in ("kc_t10", "kc_t05"):
+        bad = sum(not stable(r) for r in rows if r["variant"] == v and r["size"] == "33")
+        need(bad == 4, f"tethers_extreme.csv {v} at 33: unstable in {bad} cases (docs: 4)")
+        out.append(v)
+    return "tethers alone (10% and 5%) leave the paper's step unstable in 4 of 6 cases at 33x33"
+
+
+def c_default_stable_all_extremes(docs):
+    rows = [r for r in docs.rows("default_candidates_extreme.csv") if r["config"] == DEMO_DEFAULT]
+    runs = {(r["case"], r["size"], r["air_density"]) for r in rows}
+    need(len(rows) == 72 and len(runs) == 72, f"{len(rows)} rows of the demo default (docs: 72 = 6 cases x 2 sizes x 6 densities)")
+    bad = [f"{r['case']} {r['size']} {r['air_density']}" for r in rows if not stable(r)]
+    need(not bad, f"the demo default is unstable in {bad}")
+    late = max(num(r["late_max_stretch"]) for r in rows if r["case"] == "stop_10g")
+    need(late < 0.405, f"the demo default's 10 g stop ends at {late} stretch over its last second (docs: at most 40%)")
+    scene = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "assets", "scenes", "flag_vehicle.json")
+    shipped = "no assets/scenes/flag_vehicle.json beside this script: not compared with the scene"
+    if os.path.isfile(scene):
+        import json
+        with open(scene) as f:
+            s = dict(json.load(f)["flag"]["solver"])
+        if s.get("compression", True) is True:
+            s.pop("compression", None)
+        name = s.pop("name")
+        want = dict(kv.split("=") for kv in DEMO_DEFAULT.split(":")[1].split(","))
+        same = name == "kangcho" and set(s) == set(want) and all(str(s[k]) == v or
+                                                                  (isinstance(s[k], (int, float)) and float(s[k]) == float(v))
+                                                                  for k, v in want.items())
+        need(same, f"flag_vehicle.json's solver {name} {s} is not the configuration the study ran ({DEMO_DEFAULT}): rerun it")
+        shipped = "the configuration flag_vehicle.json ships"
+    return f"the demo default ({DEMO_DEFAULT}) is stable in all 72 extreme runs; {shipped}"
+
+
+def c_default_stretch_over_bounds(docs):
+    rows = [r for r in docs.rows("default_candidates_extreme.csv") if r["config"] == DEMO_DEFAULT]
+    out = []
+    for n in ("33", "65"):
+        hi = max(num(r["p99_stretch"]) for r in rows if r["size"] == n)
+        need(hi > 0.1, f"the demo default's p99 stays within 10% at {n}x{n}: update the docs")
+        out.append(f"{n}x{n} {hi:.0%}")
+    return "documented: the demo default's p99 stretch reaches " + ", ".join(out) + " (10 g stop)"
+
+
+def c_tight_tethers_hold(docs):
+    rows = docs.rows("default_candidates_extreme.csv")
+    configs = {r["config"] for r in rows}
+    for c in configs:
+        bad = sum(not stable(r) for r in rows if r["config"] == c)
+        if "tether=0.1" in c:
+            need(bad >= 1, f"{c} holds all its runs (docs: no pass count holds all six cases with tethers at 10%)")
+    full = sorted((int(c.split("strain_passes=")[1].split(",")[0]), c) for c in configs
+                  if sum(r["config"] == c for r in rows) == 72 and all(stable(r) for r in rows if r["config"] == c))
+    need(full and full[0][0] == 3, f"the fewest passes stable in all 72 runs: {full[:1]} (docs: 3)")
+    two = [c for c in configs if "strain_passes=2" in c and sum(r["config"] == c for r in rows) == 72]
+    need(two and all(sum(not stable(r) for r in rows if r["config"] == c) == 1 for c in two),
+         "two passes do not lose exactly one run of 72")
+    return "tethers at 10% never hold all six cases; 3 passes are the fewest stable in 72 runs, 2 lose one"
+
+
+def c_default_stays_below_pole_top(docs):
+    rows = docs.rows("rest_climb.csv")
+    solver = DEMO_DEFAULT.replace("iterations=1,", "")
+    mine = [r for r in rows if r["solver"] == solver and r["centroid_5s_m"]]
+    need(len(mine) == 6 and all(num(r["highest_particle_m"]) <= 0.02 for r in mine),
+         f"the demo default rises over the pole top at rest: {[r['highest_particle_m'] for r in mine]}")
+    scan = [r for r in rows if not r["centroid_5s_m"]]
+    rise = sum(num(r["highest_particle_m"]) > 0.02 for r in scan)
+    need(len(scan) == 32 and rise == 16, f"{rise} of {len(scan)} configurations rise > 2 cm (docs: 16 of 32)")
+    return "at rest the demo default never rises over the pole top (6 densities); 16 of 32 configurations do"
+
+
+def c_pass_in_spring_order(docs):
+    rows = docs.rows("pass_order_extreme.csv")
+    def r(v, case, n):
+        return one(rows, "pass_order_extreme.csv", variant=v, case=case, size=str(n))
+    sp, co = "spring order (kept), 33 and 65", "colour order (not kept), 33 and 65"
+    need(num(r(co, "light_particles", 33)["p99_stretch"]) > 2 * num(r(sp, "light_particles", 33)["p99_stretch"]),
+         "colour order does not stretch light particles twice as much as spring order")
+    need(stable(r(sp, "teleport_1m", 65)) and not stable(r(co, "teleport_1m", 65)), "the teleport at 65x65 does not separate the orders")
+    dens = [x for x in rows if x["variant"] == "spring order (kept)" and x["case"] == "stop_10g"]
+    held = sum(stable(x) for x in dens)
+    need(len(dens) == 6 and held == 3, f"the previous default holds the 10 g stop in {held} of {len(dens)} densities (docs: 3 of 6)")
+    return "the pass in spring order beats colour order (light particles, teleport at 65); the previous default's 10 g stop: 3 of 6 densities"
+
+
+def c_default_cheaper_than_previous(docs):
+    rows = docs.rows("default_cost_extreme.csv")
+    out = []
+    for n in ("33", "65"):
+        for rnd in ("1", "2"):
+            med = {}
+            for r in rows:
+                if r["size"] == n and r["round"] == rnd:
+                    med.setdefault(r["default"].split(" ")[0], []).append(num(r["ms_per_tick"]))
+            old, new = sorted(med["previous"])[6 // 2 - 1:6 // 2 + 1], sorted(med["candidate"])[6 // 2 - 1:6 // 2 + 1]
+            need(sum(new) < sum(old), f"default_cost_extreme.csv {n} round {rnd}: the candidate is not cheaper per tick")
+        out.append(n)
+    need(all(not stable(r) for r in rows if r["default"].startswith("previous") and r["case"] == "stop_10g"),
+         "the previous default holds the 10 g stop in default_cost_extreme.csv")
+    return "float with 4 passes costs less per tick than the previous default in both rounds at 33 and 65"
+
+
+def c_implicit_air_no_gain_for_demo(docs):
+    a, b = "kangcho_1_strain_10pct", "kangcho_1_strain_10pct_implicit_air"
+    for n in (33, 65):
+        for case in CASES:
+            need(ext(docs, a, case, n)["stable"] == ext(docs, b, case, n)["stable"],
+                 f"extreme.csv {case} {n}: implicit air changes stability with the pass")
+    ma = sorted(num(ext(docs, a, c, 33)["ms_per_tick"]) for c in CASES)
+    mb = sorted(num(ext(docs, b, c, 33)["ms_per_tick"]) for c in CASES)
+    need(sum(mb[2:4]) > 1.3 * sum(ma[2:4]), "implicit air is not dearer per tick at 33x33")
+    return f"implicit air with the pass: the same stable cases, {sum(mb[2:4]) / sum(ma[2:4]):.1f}x the ms per tick at 33x33"
+
+
+# docs/multigrid.md's design choices
+
+
+def mg(docs, name, size, solver):
+    return one(docs.rows(name), name, size=str(size), solver=solver)
+
+
+def c_multigrid_default_accuracy(docs):
+    out = []
+    for n in (17, 33, 65, 129):
+        m, e = mg(docs, "multigrid_start.csv", n, "multigrid"), mg(docs, "multigrid_start.csv", n, "exact:method=multigrid")
+        a, b = num(m["max_stretch"]) / num(e["max_stretch"]), num(m["p99_stretch"]) / num(e["p99_stretch"])
+        need(stable(m) and num(m["solve_error"]) <= 0.02 and a <= 1.5 and b <= 1.25,
+             f"multigrid_start.csv {n}: error {m['solve_error']}, max {a:.2f}x, p99 {b:.2f}x exact (goal 0.02, 1.5x, 1.25x)")
+        out.append(m["solve_error"])
+    return "the multigrid default on the vehicle path: solve error " + " / ".join(out) + ", stretch within 1.5x / 1.25x of exact"
+
+
+def c_galerkin_beats_rediscretized(docs):
+    g = mg(docs, "multigrid_vehicle_path.csv", 129, "multigrid")
+    r = mg(docs, "multigrid_vehicle_path.csv", 129, "multigrid:coarse=rediscretize")
+    ratio = num(r["solve_error"]) / num(g["solve_error"])
+    need(ratio > 2, f"re-discretized coarse levels leave {ratio:.1f}x Galerkin's error at 129x129 (docs: > 2x)")
+    return f"re-discretized coarse levels leave {ratio:.1f}x the Galerkin error at 129x129"
+
+
+def c_bend_collapse_as_accurate(docs):
+    out = []
+    for n in (17, 33, 65, 129):
+        k = mg(docs, "multigrid_bend_collapse.csv", n, "multigrid:bend=keep")
+        c = mg(docs, "multigrid_bend_collapse.csv", n, "multigrid:bend=collapse")
+        need(stable(c) and num(c["solve_error"]) <= 0.02 and num(c["solve_error"]) <= 1.2 * num(k["solve_error"]),
+             f"multigrid_bend_collapse.csv {n}: collapsed {c['solve_error']} against kept {k['solve_error']}")
+        out.append(f"{k['solve_error']} / {c['solve_error']}")
+    return "bend springs collapsed on the coarse levels: solve error kept / collapsed " + ", ".join(out)
+
+
+def c_cg_beats_stationary_cycles(docs):
+    out = []
+    for n in (17, 33, 65, 129):
+        a, s = mg(docs, "multigrid_vehicle_path.csv", n, "multigrid"), mg(docs, "multigrid_vehicle_path.csv", n, "multigrid:krylov=none")
+        ratio = num(s["solve_error"]) / num(a["solve_error"])
+        need(ratio >= 3.5, f"multigrid_vehicle_path.csv {n}: stationary cycles leave {ratio:.1f}x CG's error (docs: >= 4x)")
+        out.append(f"{ratio:.0f}x")
+    v22 = [num(mg(docs, "multigrid_vehicle_path.csv", n, "multigrid:pre_sweeps=2,post_sweeps=2")["solve_error"]) >=
+           0.9 * num(mg(docs, "multigrid_vehicle_path.csv", n, "multigrid")["solve_error"]) for n in (17, 33, 65, 129)]
+    need(all(v22), "V(2,2) is clearly more accurate than V(1,1) at the same tolerance")
+    return "stationary cycles leave " + ", ".join(out) + " CG's error (17-129); V(2,2) is no more accurate than V(1,1)"
+
+
+def c_kcycle_tolerance(docs):
+    k = mg(docs, "multigrid_kcycle.csv", 129, "multigrid:kcycle=1,tolerance=2e-3")
+    e = mg(docs, "multigrid_kcycle.csv", 129, "exact:method=multigrid")
+    d = mg(docs, "multigrid_kcycle.csv", 129, "multigrid")
+    v = mg(docs, "multigrid_kcycle.csv", 129, "multigrid:kcycle=0,tolerance=1e-3")
+    p = num(k["p99_stretch"]) / num(e["p99_stretch"])
+    need(p > 1.25, f"the K-cycle at 2e-3 keeps p99 within 1.25x at 129x129 ({p:.2f}x): the tolerance could rise")
+    need(num(d["solve_error"]) < 0.6 * num(v["solve_error"]), "the K-cycle at 1.5e-3 does not beat the V-cycle at 1e-3 at 129x129")
+    return f"K-cycle: at 1.5e-3 {d['solve_error']} against the V-cycle's {v['solve_error']} (1e-3) at 129x129; 2e-3 puts p99 at {p:.2f}x exact"
+
+
+def c_local_test_bounds_peak(docs):
+    rows = docs.rows("multigrid_local_ensemble.csv")
+    exact = num(one(rows, "multigrid_local_ensemble.csv", solver="exact:method=multigrid")["max_stretch"])
+    with_ = [num(r["max_stretch"]) / exact for r in rows if r["family"] == "multigrid" and "local_tolerance=0" not in r["solver"]]
+    without = [num(r["max_stretch"]) / exact for r in rows if "local_tolerance=0" in r["solver"]]
+    need(len(with_) == 20 and max(with_) <= 1.15, f"with the local test the peak reaches {max(with_):.2f}x exact (docs: <= 1.14x)")
+    need(len(without) == 20 and max(without) > 1.5, f"without it the peak stays at {max(without):.2f}x (docs: over 1.5x)")
+    return f"129x129 ensemble: peak stretch up to {max(with_):.2f}x exact with the local test, {max(without):.2f}x without"
+
+
+def c_warm_start_helps(docs):
+    out = []
+    for n in (33, 65):
+        w, z = mg(docs, "multigrid_warm_start.csv", n, "multigrid"), mg(docs, "multigrid_warm_start.csv", n, "multigrid:start=zero")
+        need(num(w["solve_error"]) <= num(z["solve_error"]), f"multigrid_warm_start.csv {n}: the warm start is less accurate")
+        out.append(f"{w['solve_error']} / {z['solve_error']}")
+    h1 = [num(mg(docs, "multigrid_start.csv", n, "multigrid:start_history=1")["solve_error"]) for n in (17, 33, 65, 129)]
+    h2 = [num(mg(docs, "multigrid_start.csv", n, "multigrid")["solve_error"]) for n in (17, 33, 65, 129)]
+    need(h2[3] < h1[3], "two start vectors are not more accurate than one at 129x129")
+    return "warm start / zero start solve error " + ", ".join(out) + f" (33, 65); two vectors {h2[3]} against one {h1[3]} at 129x129"
+
+
+def c_float_cycles_stretch_more(docs):
+    out = []
+    for name, dbl, flt in (("multigrid_extreme_precision.csv", "cycle_precision=same", "cycle_precision=float"),
+                           ("multigrid_start_extreme_precision.csv", None, "cycle_precision=float")):
+        rows = [r for r in docs.rows(name) if r["case"] == "stop_10g" and r["size"] == "65" and "kcycle=0" not in r["config"]
+                and "local_tolerance=0" not in r["config"]]
+        def tol(c):
+            for kv in c.split(":")[1].split(","):
+                if kv.startswith("tolerance="):
+                    return float(kv.split("=")[1])
+            return 1.5e-3
+        pairs = {}
+        for r in rows:
+            pairs.setdefault(tol(r["config"]), {})["f" if flt in r["config"] else "d"] = num(r["peak_stretch"])
+        pairs = [p for p in pairs.values() if len(p) == 2]
+        higher = sum(p["f"] > p["d"] for p in pairs)
+        need(len(pairs) == 5 and higher >= 3 and max(p["f"] for p in pairs) > max(p["d"] for p in pairs),
+             f"{name}: float cycles peak higher in {higher} of {len(pairs)} tolerances in the 10 g stop at 65x65")
+        out.append(f"{name}: higher in {higher} of 5, worst {max(p['f'] for p in pairs):.2f} against {max(p['d'] for p in pairs):.2f}")
+    return "float cycles stretch the stiff flag more in the 10 g stop at 65x65 (peak; " + "; ".join(out) + ")"
+
+
+def c_one_cycle_not_accurate(docs):
+    errs = [num(mg(docs, "multigrid_start.csv", n, "multigrid:cycles=1,krylov=none")["solve_error"]) for n in (17, 33, 65, 129)]
+    need(min(errs) > 0.4 and all(stable(mg(docs, "multigrid_start.csv", n, "multigrid:cycles=1,krylov=none")) for n in (17, 33, 65, 129)),
+         f"one cycle alone leaves {errs}")
+    return f"one fixed cycle: stable, solve error {min(errs)}-{max(errs)}"
+
+
+DOC_CHECKS = [
+    # docs/study.md, part 1
+    ("paper_step_leaves_solve_error", c_paper_step_leaves_solve_error),
+    ("paper_step_stretches_moving_flag", c_paper_step_stretches_moving_flag),
+    ("paper_step_unstable_fine_vehicle_path", c_paper_step_unstable_fine_vehicle_path),
+    ("multigrid_matches_exact_stretch", c_multigrid_matches_exact_stretch),
+    ("even_jacobi_counts_blow_up", c_even_jacobi_counts_blow_up),
+    ("eq17_needed_on_moving_flag", c_eq17_needed_on_moving_flag),
+    ("desbrun_robust_but_damped", c_desbrun_robust_but_damped),
+    ("bullet_tears", c_bullet_tears),
+    ("soft_flag_tiny_step_at_bound", c_soft_flag_tiny_step_at_bound),
+    ("newton_solvers_as_documented", c_newton_solvers_as_documented),
+    # docs/study.md, extreme cases
+    ("default_stable_all_extremes", c_default_stable_all_extremes),
+    ("default_stretch_over_bounds", c_default_stretch_over_bounds),
+    ("soft_flag_linear_solves_fail", c_soft_flag_linear_solves_fail),
+    ("stiff_multigrid_matches_exact", c_stiff_multigrid_matches_exact),
+    ("stiff_flag_fails_gale", c_stiff_flag_fails_gale),
+    ("stiff_flag_fails_light_particles", c_stiff_flag_fails_light_particles),
+    ("newton_nonlinear_holds_gale", c_newton_nonlinear_holds_gale),
+    ("teleport_rules_out_bounds", c_teleport_rules_out_bounds),
+    ("larger_steps_lose_stiff_flag", c_larger_steps_lose_stiff_flag),
+    ("tethers_alone_fail", c_tethers_alone_fail),
+    # docs/study.md, the demo default's design
+    ("tight_tethers_hold", c_tight_tethers_hold),
+    ("default_stays_below_pole_top", c_default_stays_below_pole_top),
+    ("pass_in_spring_order", c_pass_in_spring_order),
+    ("default_cheaper_than_previous", c_default_cheaper_than_previous),
+    ("implicit_air_no_gain_for_demo", c_implicit_air_no_gain_for_demo),
+    # docs/multigrid.md
+    ("multigrid_default_accuracy", c_multigrid_default_accuracy),
+    ("galerkin_beats_rediscretized", c_galerkin_beats_rediscretized),
+    ("bend_collapse_as_accurate", c_bend_collapse_as_accurate),
+    ("cg_beats_stationary_cycles", c_cg_beats_stationary_cycles),
+    ("kcycle_tolerance", c_kcycle_tolerance),
+    ("local_test_bounds_peak", c_local_test_bounds_peak),
+    ("warm_start_helps", c_warm_start_helps),
+    ("float_cycles_stretch_more", c_float_cycles_stretch_more),
+    ("one_cycle_not_accurate", c_one_cycle_not_accurate),
+]
+
+
+def check_docs(d):
+    """Every named finding against the CSVs in d: one line each, exit 1 naming those that fail."""
+    docs = Docs(d)
+    failed = []
+    for name, check in DOC_CHECKS:
+        try:
+            print(f"ok   {name}: {check(docs)}")
+        except Finding as e:
+            print(f"FAIL {name}: {e}")
+            failed.append(name)
+    if failed:
+        sys.exit(f"{d}: {len(failed)} of {len(DOC_CHECKS)} documented findings no longer hold: {', '.join(failed)} "
+                 "(fix the docs that cite them, or the CSVs)")
+    print(f"{d}: all {len(DOC_CHECKS)} documented findings hold")
+
+
 
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "--docs":
+        return check_docs(sys.argv[2] if len(sys.argv) > 2 else "docs/study")
     if len(sys.argv) > 2 and sys.argv[1] == "--extremes":
         return check_extremes(sys.argv[2])
     newton = "--newton" in sys.argv[1:]
