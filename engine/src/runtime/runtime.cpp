@@ -75,6 +75,15 @@ struct Runtime::Impl {
 
     RigidFrame carrier() const { return vehicle ? vehicle->carrier() : fixedCarrier; }
     void tick();
+
+    // Construction, in this order.
+    void applyOptions();
+    void planFrames();
+    void addPhases();
+    void buildVehicle();
+    void buildFlag();
+    void hookFlagToVehicle();
+    void buildView();
 };
 
 void Runtime::Impl::tick() {
@@ -111,12 +120,34 @@ void Runtime::Impl::tick() {
     }
 }
 
-Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
-    : impl_(std::make_unique<Impl>()) {
-    Impl& m = *impl_;
-    m.scene = sceneIn;
-    m.opt = options;
-    SceneConfig& s = m.scene;
+namespace {
+
+// Makes --out's folder, refusing a non-empty one unless --force, which clears an earlier run's
+// outputs from it.
+void prepareOutDir(const RunOptions& options) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::exists(options.outDir, ec) && !fs::is_empty(options.outDir, ec) && !options.force)
+        throw ConfigError("--out " + options.outDir +
+                          ": folder exists and is not empty (use --force to write into it)");
+    if (options.force) {
+        // --force replaces an earlier recording: remove what a run writes (and only that),
+        // so the folder never mixes two runs' frames.
+        for (const char* f : {"profile.csv", "summary.json", "video.mp4"}) fs::remove(fs::path(options.outDir) / f, ec);
+        if (fs::is_directory(fs::path(options.outDir) / "frames", ec))
+            for (const auto& e : fs::directory_iterator(fs::path(options.outDir) / "frames", ec))
+                if (e.path().filename().string().rfind("frame_", 0) == 0) fs::remove(e.path(), ec);
+    }
+    fs::create_directories(options.outDir, ec);
+    if (ec) throw ConfigError("--out " + options.outDir + ": cannot create folder: " + ec.message());
+}
+
+}  // namespace
+
+// Applies the command line to the scene (frame size, window, recording) and rejects what cannot run.
+void Runtime::Impl::applyOptions() {
+    SceneConfig& s = scene;
+    const RunOptions& options = opt;
     if (options.width) s.render.width = options.width;
     if (options.height) s.render.height = options.height;
     if ((s.render.width % 2) || (s.render.height % 2))
@@ -135,97 +166,106 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     if (options.noFrames && !options.video) s.subsystems &= ~kRecording;
     if (!options.recordInput.empty() && !(s.subsystems & kVehicle))
         throw ConfigError("--record-input: scene '" + s.name + "' has no vehicle to drive");
+}
 
-    // Output folder: never silently overwritten.
-    if (!options.outDir.empty()) {
-        namespace fs = std::filesystem;
-        std::error_code ec;
-        if (fs::exists(options.outDir, ec) && !fs::is_empty(options.outDir, ec) && !options.force)
-            throw ConfigError("--out " + options.outDir +
-                              ": folder exists and is not empty (use --force to write into it)");
-        if (options.force) {
-            // --force replaces an earlier recording: remove what a run writes (and only that),
-            // so the folder never mixes two runs' frames.
-            for (const char* f : {"profile.csv", "summary.json", "video.mp4"}) fs::remove(fs::path(options.outDir) / f, ec);
-            if (fs::is_directory(fs::path(options.outDir) / "frames", ec))
-                for (const auto& e : fs::directory_iterator(fs::path(options.outDir) / "frames", ec))
-                    if (e.path().filename().string().rfind("frame_", 0) == 0) fs::remove(e.path(), ec);
-        }
-        fs::create_directories(options.outDir, ec);
-        if (ec) throw ConfigError("--out " + options.outDir + ": cannot create folder: " + ec.message());
-    }
-
-    m.tickDt = 1.0 / s.physicsHz;
-    const double duration = options.duration > 0 ? options.duration : s.duration;
-    m.frames = options.frames > 0 ? options.frames : std::max(1, int(std::lround(duration * s.fps)));
+// Sets the tick length, the frame count and whether the run advances in lockstep.
+void Runtime::Impl::planFrames() {
+    const SceneConfig& s = scene;
+    tickDt = 1.0 / s.physicsHz;
+    const double duration = opt.duration > 0 ? opt.duration : s.duration;
+    frames = opt.frames > 0 ? opt.frames : std::max(1, int(std::lround(duration * s.fps)));
     // Only live input (a window driving a vehicle without a script) follows the wall clock;
     // everything else, and any run that records its input, advances in lockstep.
-    const bool liveInput = (s.subsystems & kWindow) && (s.subsystems & kVehicle) && options.scriptPath.empty();
-    m.lockstep = !liveInput || !options.recordInput.empty();
+    const bool liveInput = (s.subsystems & kWindow) && (s.subsystems & kVehicle) && opt.scriptPath.empty();
+    lockstep = !liveInput || !opt.recordInput.empty();
+}
 
-    // Phases, in frame order, only for the subsystems the scene has.
-    Profiler& p = m.profiler;
-    if (s.subsystems & kVehicle) {
-        m.ph.input = p.addPhase("input");
-        m.ph.bullet = p.addPhase("bullet");
+// Adds the profiler's phases, in frame order, only for the subsystems the scene has.
+void Runtime::Impl::addPhases() {
+    const unsigned subsystems = scene.subsystems;
+    Profiler& p = profiler;
+    if (subsystems & kVehicle) {
+        ph.input = p.addPhase("input");
+        ph.bullet = p.addPhase("bullet");
     }
-    if (s.subsystems & kCloth) {
-        if (s.subsystems & kAir) m.ph.air = p.addPhase("air");
-        m.ph.clothForces = p.addPhase("cloth_forces");
-        m.ph.clothSolve = p.addPhase("cloth_solve");
-        if (s.subsystems & kCollision) m.ph.collision = p.addPhase("collision");
+    if (subsystems & kCloth) {
+        if (subsystems & kAir) ph.air = p.addPhase("air");
+        ph.clothForces = p.addPhase("cloth_forces");
+        ph.clothSolve = p.addPhase("cloth_solve");
+        if (subsystems & kCollision) ph.collision = p.addPhase("collision");
     }
-    if (s.subsystems & kRender) {
-        m.ph.render = p.addPhase("render");
-        m.ph.readback = p.addPhase("readback");
+    if (subsystems & kRender) {
+        ph.render = p.addPhase("render");
+        ph.readback = p.addPhase("readback");
     }
-    if (s.subsystems & kRecording) m.ph.write = p.addPhase("write");
+    if (subsystems & kRecording) ph.write = p.addPhase("write");
+}
 
-    if (s.subsystems & kVehicle) {
-        const std::string scriptPath = options.scriptPath.empty() ? s.script : options.scriptPath;
-        // In a window the keyboard drives unless a script is named on the command line.
-        const bool live = (s.subsystems & kWindow) && options.scriptPath.empty();
-        if (!scriptPath.empty() && !live) m.script = InputScript::load(scriptPath);
-        if (!options.recordInput.empty()) m.recorder.emplace();
-        m.vehicle = std::make_unique<VehicleSystem>(s, &m.profiler);
-    }
+// Builds the vehicle and its input: a script, the keyboard, and a recorder if asked for.
+void Runtime::Impl::buildVehicle() {
+    const SceneConfig& s = scene;
+    const std::string scriptPath = opt.scriptPath.empty() ? s.script : opt.scriptPath;
+    // In a window the keyboard drives unless a script is named on the command line.
+    const bool live = (s.subsystems & kWindow) && opt.scriptPath.empty();
+    if (!scriptPath.empty() && !live) script = InputScript::load(scriptPath);
+    if (!opt.recordInput.empty()) recorder.emplace();
+    vehicle = std::make_unique<VehicleSystem>(s, &profiler);
+}
 
-    const RigidFrame carrier = m.carrier();
-    if (s.subsystems & kCloth) {
-        PoleMount& mount = m.mount;
-        if (m.vehicle) mount = m.vehicle->poleMount();
-        else {
-            mount.base = Eigen::Vector3d(s.pole.base[0], s.pole.base[1], s.pole.base[2]);
-            mount.height = s.pole.height;
-            mount.radius = s.pole.radius;
-            mount.trailing = Eigen::Vector3d::UnitX();
+// Builds the flag on its pole (on the vehicle, or fixed in the world) and the ground it can hit.
+void Runtime::Impl::buildFlag() {
+    const SceneConfig& s = scene;
+    const RigidFrame pose = carrier();
+    if (vehicle) mount = vehicle->poleMount();
+    else {
+        mount.base = Eigen::Vector3d(s.pole.base[0], s.pole.base[1], s.pole.base[2]);
+        mount.height = s.pole.height;
+        mount.radius = s.pole.radius;
+        mount.trailing = Eigen::Vector3d::UnitX();
+    }
+    flag = std::make_unique<Flag>(s, mount, pose);
+    if (s.subsystems & kCollision) {
+        cloth::Collider ground;  // the ground plane, y = 0
+        ground.shape = cloth::Collider::Shape::Plane;
+        ground.axis = Eigen::Vector3d::UnitY();
+        staticColliders.push_back(ground);
+    }
+    if (vehicle) hookFlagToVehicle();
+}
+
+// Steps the flag inside the vehicle's physics ticks, against the pole and the vehicle's body.
+void Runtime::Impl::hookFlagToVehicle() {
+    vehicle->setTickHook([self = this](double h) {
+        const RigidFrame c = self->vehicle->carrier();
+        std::vector<cloth::Collider> colliders = self->staticColliders;
+        if (self->scene.subsystems & kCollision) {
+            colliders.push_back(self->flag->poleCollider(c));
+            colliders.push_back(self->vehicle->bodyCollider());
         }
-        m.flag = std::make_unique<Flag>(s, mount, carrier);
-        if (s.subsystems & kCollision) {
-            cloth::Collider ground;  // the ground plane, y = 0
-            ground.shape = cloth::Collider::Shape::Plane;
-            ground.axis = Eigen::Vector3d::UnitY();
-            m.staticColliders.push_back(ground);
-        }
-        if (m.vehicle) {
-            Impl* self = &m;
-            m.vehicle->setTickHook([self](double h) {
-                const RigidFrame c = self->vehicle->carrier();
-                std::vector<cloth::Collider> colliders = self->staticColliders;
-                if (self->scene.subsystems & kCollision) {
-                    colliders.push_back(self->flag->poleCollider(c));
-                    colliders.push_back(self->vehicle->bodyCollider());
-                }
-                self->flag->tick(h, c, colliders);
-            });
-        }
-    }
+        self->flag->tick(h, c, colliders);
+    });
+}
 
-    if (s.subsystems & kRender) {
-        m.view = std::make_unique<SceneView>(s, options, m.vehicle.get(), m.flag.get(), m.frames);
-        if (s.subsystems & kWindow) ++gCounters.windows;
-        if (s.subsystems & kRecording) ++gCounters.frameWriters;
-    }
+// Builds the view that renders the scene (and its window and recording).
+void Runtime::Impl::buildView() {
+    view = std::make_unique<SceneView>(scene, opt, vehicle.get(), flag.get(), frames);
+    if (scene.subsystems & kWindow) ++gCounters.windows;
+    if (scene.subsystems & kRecording) ++gCounters.frameWriters;
+}
+
+Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.scene = sceneIn;
+    m.opt = options;
+    m.applyOptions();
+    // Output folder: never silently overwritten.
+    if (!options.outDir.empty()) prepareOutDir(options);
+    m.planFrames();
+    m.addPhases();
+    if (m.scene.subsystems & kVehicle) m.buildVehicle();
+    if (m.scene.subsystems & kCloth) m.buildFlag();
+    if (m.scene.subsystems & kRender) m.buildView();
     m.lastWall = Clock::now();
 }
 
