@@ -194,29 +194,31 @@ BENCHMARK_CAPTURE(stepFlag, swung_kangcho_fast_double, "kangcho", Pole::Swung)->
 BENCHMARK_CAPTURE(stepFlag, swung_kangcho_fast_float, "kangcho:precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_double, "multigrid:cycles=1", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_float, "multigrid:cycles=1,precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-// One cycle under CG (its one iteration scales the cycle by a step length; the default runs the
-// cycle alone since session 18).
+// One cycle under CG (its one iteration scales the cycle by a step length; a fixed cycle runs
+// alone by default: the step length moved the vehicle path's solve error by -4% to +7% at one
+// product with W more, docs/study/multigrid_start.csv).
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_cg_double, "multigrid:cycles=1,krylov=cg", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_double, "multigrid", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_float, "multigrid:precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // Mixed precision: the cycles in float under the double CG (cycle_precision=float).
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_mixed, "multigrid:cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_mixed, "multigrid:cycles=1,cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-// The adaptive stop on the relative residual alone (the default before session 17's local test).
+// The adaptive stop on the relative residual alone, without the default's local test
+// (docs/multigrid.md, "The stopping test"; docs/study/multigrid_local_ensemble.csv).
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_double, "multigrid:local_tolerance=0", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_mixed, "multigrid:local_tolerance=0,cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // The start from the last solve's dv alone (scaled to the least error), and from the last three:
-// the default combines the last two (start_history=2; docs/multigrid.md, session 18).
+// the default combines the last two (docs/multigrid.md, "Start"; docs/study/multigrid_start.csv).
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_history1_double, "multigrid:start_history=1", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_history3_double, "multigrid:start_history=3", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-// The adaptive default before session 15 (V-cycles to 1e-3), and one K-cycle (the adaptive default
-// runs K-cycles; a fixed count V-cycles): docs/multigrid.md, session 15.
+// V-cycles to 1e-3 instead of the default's K-cycle on level 1 to 1.5e-3, and one K-cycle (the
+// adaptive default runs K-cycles, a fixed count V-cycles): docs/study/multigrid_kcycle.csv.
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_double, "multigrid:kcycle=0,tolerance=1e-3", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_float, "multigrid:kcycle=0,tolerance=1e-3,precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_k1_double, "multigrid:cycles=1,kcycle=1", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // The coarse operators rebuilt every 4th step and reused in between (coarse_every=4): on the
 // still pole 10-18% cheaper at the same cycle count; on the swung pole the cycles at 129x129 rise
-// from 7.8 to 13.4 (docs/multigrid.md, session 13).
+// from 7.8 to 13.4, which is why the default rebuilds them every step (docs/multigrid.md).
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_lag4_double, "multigrid:coarse_every=4", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_lag4_float, "multigrid:coarse_every=4,precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, exact_multigrid, "exact:method=multigrid", Pole::Still)->Args({33, 0})->Args({129, 0})->Unit(benchmark::kMicrosecond);

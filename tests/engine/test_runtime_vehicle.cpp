@@ -66,8 +66,9 @@ TEST(RuntimeVehicle, FlagTrailsBehindAtSpeedAndHangsAtRest) {
 
     // At rest in still air: hangs below the pole top. Released flat with its top edge at the pole
     // top, a flag that only loses energy to the air does not climb back over the pole top once the
-    // vehicle has settled on its wheels (1.5 s; session 21: the paper's step with 3 anti-stretch
-    // passes and tethers at 1% threw it 0.3 m above it).
+    // vehicle has settled on its wheels (1.5 s; the paper's step with 3 anti-stretch passes and
+    // tethers at 1% threw it 0.3 m above it, and about half the configurations of
+    // docs/study/rest_climb.csv rise over it).
     SceneConfig still = headless("flag_vehicle");
     still.script.clear();
     RunOptions o2;
