@@ -48,9 +48,108 @@ struct SceneView::Impl {
     std::string videoPath;
     bool readback = false;
 
+    void createContext();
+    void addGroundAndPole();
+    void addVehicleMeshes();
+    void addFlagMesh();
+    void openWriters(const RunOptions& options);
     void updateCamera();
     std::vector<DrawItem> drawList();
 };
+
+// Opens the GL context (a window or offscreen) and the renderer on it.
+void SceneView::Impl::createContext() {
+    const int w = scene->render.width, h = scene->render.height;
+    std::string error;
+    context = (scene->subsystems & kWindow) ? createWindowContext(w, h, "flagsim: " + scene->name, &error)
+                                            : createOffscreenContext(w, h, &error);
+    if (!context) throw ConfigError(scene->file + ": render: " + error);
+    try {
+        renderer = std::make_unique<Renderer>(*context, scene->render.shadowMapSize);
+    } catch (const std::runtime_error& e) {
+        throw ConfigError(scene->file + ": render: " + e.what());
+    }
+}
+
+// Adds the textured ground and the pole's mesh (the vehicle's pole, or the scene's fixed one).
+void SceneView::Impl::addGroundAndPole() {
+    Renderer& r = *renderer;
+    const int groundTexture = r.addTexture(makeGroundTexture(512), 512, 512);
+    Material groundMat;
+    groundMat.color = {1, 1, 1};
+    groundMat.texture = groundTexture;
+    staticItems.push_back({r.addMesh(makeGround(vehicle ? 600.f : 60.f, 4.f), groundMat), Eigen::Matrix4f::Identity(), false});
+
+    Material poleMat;
+    poleMat.color = {0.75f, 0.75f, 0.78f};
+    const double poleRadius = vehicle ? scene->vehicle.poleRadius : scene->pole.radius;
+    const double poleHeight = vehicle ? scene->vehicle.poleHeight : scene->pole.height;
+    poleMesh = r.addMesh(makeCylinder(float(poleRadius), float(poleHeight / 2), 16), poleMat);
+}
+
+// Adds the meshes of the ground props, the vehicle's body and its wheels.
+void SceneView::Impl::addVehicleMeshes() {
+    Renderer& r = *renderer;
+#ifdef FLAGSIM_HAS_BULLET
+    Material propMat;
+    propMat.color = {0.62f, 0.58f, 0.5f};
+    for (const GroundProp& prop : vehicle->props()) {
+        const MeshData mesh = prop.shape == GroundProp::Shape::Box
+                                  ? makeBox(float(prop.halfExtents.x()), float(prop.halfExtents.y()), float(prop.halfExtents.z()))
+                                  : makeCylinder(float(prop.halfExtents.x()), float(prop.halfExtents.y()), 24);
+        staticItems.push_back({r.addMesh(mesh, propMat), toMatrix(prop.transform)});
+    }
+#endif
+    // The body: the scene's model fitted onto the chassis box, or the box itself.
+    const Eigen::Vector3d he = vehicle->chassisHalfExtents();
+    const float half[3] = {float(he.x()), float(he.y()), float(he.z())};
+#ifdef FLAGSIM_HAS_ASSIMP
+    LoadedModel model = loadModel(scene->vehicle.model);
+    fitModel(model, half);
+    for (const MeshData& part : model.parts) {
+        Material mat;
+        mat.color = {part.color[0], part.color[1], part.color[2]};
+        bodyMeshes.push_back(r.addMesh(part, mat));
+    }
+#else
+    Material body;
+    body.color = {0.8f, 0.15f, 0.1f};
+    bodyMeshes.push_back(r.addMesh(makeBox(half[0], half[1], half[2]), body));
+#endif
+    Material tyre;
+    tyre.color = {0.08f, 0.08f, 0.09f};
+    wheelMesh = r.addMesh(makeCylinder(float(vehicle->wheelRadius()), float(vehicle->wheelWidth() / 2), 24), tyre);
+}
+
+// Adds the flag's dynamic mesh: the model's triangles, textured across the grid.
+void SceneView::Impl::addFlagMesh() {
+    Renderer& r = *renderer;
+    const cloth::Model& model = flag->model();
+    const int nx = model.gridNx(), ny = model.gridNy();
+    std::vector<float> uvs;
+    for (int row = 0; row < ny; ++row)
+        for (int col = 0; col < nx; ++col) uvs.insert(uvs.end(), {float(col) / (nx - 1), float(row) / (ny - 1)});
+    for (const cloth::Triangle& t : model.triangles())
+        flagIndices.insert(flagIndices.end(), {std::uint32_t(t[0]), std::uint32_t(t[1]), std::uint32_t(t[2])});
+    const int flagTexture = r.addTexture(makeFlagTexture(384, 256), 384, 256);
+    Material flagMat;
+    flagMat.color = {1, 1, 1};
+    flagMat.texture = flagTexture;
+    flagMat.doubleSided = true;
+    flagMesh = r.addDynamicMesh(std::size_t(model.particleCount()), flagIndices, uvs, flagMat);
+}
+
+// Opens the frame writer and the video encoder the options ask for.
+void SceneView::Impl::openWriters(const RunOptions& options) {
+    const int w = scene->render.width, h = scene->render.height;
+    std::string error;
+    if (!options.noFrames) writer = std::make_unique<FrameWriter>(options.outDir + "/frames", w, h);
+    if (options.video) {
+        videoPath = options.outDir + "/video.mp4";
+        video = VideoEncoder::start(videoPath, w, h, scene->fps, &error);
+        if (!video) throw ConfigError("--video: " + error);
+    }
+}
 
 SceneView::SceneView(const SceneConfig& scene, const RunOptions& options, const VehicleSystem* vehicle,
                      const Flag* flag, int frames)
@@ -61,86 +160,11 @@ SceneView::SceneView(const SceneConfig& scene, const RunOptions& options, const 
     m.vehicle = vehicle;
     m.flag = flag;
     m.readback = options.readback;
-    const int w = scene.render.width, h = scene.render.height;
-    std::string error;
-    m.context = (scene.subsystems & kWindow) ? createWindowContext(w, h, "flagsim: " + scene.name, &error)
-                                             : createOffscreenContext(w, h, &error);
-    if (!m.context) throw ConfigError(scene.file + ": render: " + error);
-    try {
-        m.renderer = std::make_unique<Renderer>(*m.context, scene.render.shadowMapSize);
-    } catch (const std::runtime_error& e) {
-        throw ConfigError(scene.file + ": render: " + e.what());
-    }
-    Renderer& r = *m.renderer;
-
-    const int groundTexture = r.addTexture(makeGroundTexture(512), 512, 512);
-    Material groundMat;
-    groundMat.color = {1, 1, 1};
-    groundMat.texture = groundTexture;
-    m.staticItems.push_back({r.addMesh(makeGround(vehicle ? 600.f : 60.f, 4.f), groundMat), Eigen::Matrix4f::Identity(), false});
-
-    Material poleMat;
-    poleMat.color = {0.75f, 0.75f, 0.78f};
-    const double poleRadius = vehicle ? scene.vehicle.poleRadius : scene.pole.radius;
-    const double poleHeight = vehicle ? scene.vehicle.poleHeight : scene.pole.height;
-    m.poleMesh = r.addMesh(makeCylinder(float(poleRadius), float(poleHeight / 2), 16), poleMat);
-
-    if (vehicle) {
-#ifdef FLAGSIM_HAS_BULLET
-        Material propMat;
-        propMat.color = {0.62f, 0.58f, 0.5f};
-        for (const GroundProp& prop : vehicle->props()) {
-            const MeshData mesh = prop.shape == GroundProp::Shape::Box
-                                      ? makeBox(float(prop.halfExtents.x()), float(prop.halfExtents.y()), float(prop.halfExtents.z()))
-                                      : makeCylinder(float(prop.halfExtents.x()), float(prop.halfExtents.y()), 24);
-            m.staticItems.push_back({r.addMesh(mesh, propMat), toMatrix(prop.transform)});
-        }
-#endif
-        // The body: the scene's model fitted onto the chassis box, or the box itself.
-        const Eigen::Vector3d he = vehicle->chassisHalfExtents();
-        const float half[3] = {float(he.x()), float(he.y()), float(he.z())};
-#ifdef FLAGSIM_HAS_ASSIMP
-        LoadedModel model = loadModel(scene.vehicle.model);
-        fitModel(model, half);
-        for (const MeshData& part : model.parts) {
-            Material mat;
-            mat.color = {part.color[0], part.color[1], part.color[2]};
-            m.bodyMeshes.push_back(r.addMesh(part, mat));
-        }
-#else
-        Material body;
-        body.color = {0.8f, 0.15f, 0.1f};
-        m.bodyMeshes.push_back(r.addMesh(makeBox(half[0], half[1], half[2]), body));
-#endif
-        Material tyre;
-        tyre.color = {0.08f, 0.08f, 0.09f};
-        m.wheelMesh = r.addMesh(makeCylinder(float(vehicle->wheelRadius()), float(vehicle->wheelWidth() / 2), 24), tyre);
-    }
-
-    if (flag) {
-        const cloth::Model& model = flag->model();
-        const int nx = model.gridNx(), ny = model.gridNy();
-        std::vector<float> uvs;
-        for (int row = 0; row < ny; ++row)
-            for (int col = 0; col < nx; ++col) uvs.insert(uvs.end(), {float(col) / (nx - 1), float(row) / (ny - 1)});
-        for (const cloth::Triangle& t : model.triangles())
-            m.flagIndices.insert(m.flagIndices.end(), {std::uint32_t(t[0]), std::uint32_t(t[1]), std::uint32_t(t[2])});
-        const int flagTexture = r.addTexture(makeFlagTexture(384, 256), 384, 256);
-        Material flagMat;
-        flagMat.color = {1, 1, 1};
-        flagMat.texture = flagTexture;
-        flagMat.doubleSided = true;
-        m.flagMesh = r.addDynamicMesh(std::size_t(model.particleCount()), m.flagIndices, uvs, flagMat);
-    }
-
-    if (scene.subsystems & kRecording) {
-        if (!options.noFrames) m.writer = std::make_unique<FrameWriter>(options.outDir + "/frames", w, h);
-        if (options.video) {
-            m.videoPath = options.outDir + "/video.mp4";
-            m.video = VideoEncoder::start(m.videoPath, w, h, scene.fps, &error);
-            if (!m.video) throw ConfigError("--video: " + error);
-        }
-    }
+    m.createContext();
+    m.addGroundAndPole();
+    if (vehicle) m.addVehicleMeshes();
+    if (flag) m.addFlagMesh();
+    if (scene.subsystems & kRecording) m.openWriters(options);
 }
 
 SceneView::~SceneView() = default;
