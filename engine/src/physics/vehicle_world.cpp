@@ -24,6 +24,28 @@ Eigen::Isometry3d toIsometry(const btTransform& t) {
     return m;
 }
 
+// The ground's props: a field of low bumps across the road ahead, and a ramp.
+std::vector<GroundProp> groundProps() {
+    std::vector<GroundProp> props;
+    for (int i = 0; i < 6; ++i) {  // cylinders lying across the road, mostly sunk: 8 cm bumps
+        const double r = 0.35, z = 18 + 2.5 * i;
+        GroundProp prop;
+        prop.shape = GroundProp::Shape::Cylinder;
+        prop.halfExtents = {r, 4.0, r};
+        prop.transform.translation() = Eigen::Vector3d(0, 0.08 - r, z);
+        prop.transform.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        props.push_back(prop);
+    }
+    {   // a ramp to the right of the start line
+        GroundProp prop;
+        prop.halfExtents = {3.0, 0.5, 6.0};
+        prop.transform.translation() = Eigen::Vector3d(-12, -0.1, 40);
+        prop.transform.linear() = Eigen::AngleAxisd(-0.12, Eigen::Vector3d::UnitX()).toRotationMatrix();
+        props.push_back(prop);
+    }
+    return props;
+}
+
 }  // namespace
 
 struct VehicleWorld::Impl {
@@ -59,37 +81,20 @@ struct VehicleWorld::Impl {
         return statics.back().get();
     }
 
+    void addGround(const std::vector<GroundProp>& props);
+    void addChassis(const VehicleParams& p);
+    void addVehicle(const VehicleParams& p);
+
     static void onTick(btDynamicsWorld* w, btScalar dt) {
         auto* self = static_cast<Impl*>(w->getWorldUserInfo());
         if (self->hook) self->hook(dt);
     }
 };
 
-VehicleWorld::VehicleWorld(const VehicleParams& p) : impl_(std::make_unique<Impl>()), params_(p) {
-    ++gWorlds;
-    Impl& m = *impl_;
-    m.world.setGravity(btVector3(0, -9.81f, 0));
-    m.world.setInternalTickCallback(&Impl::onTick, &m, /*isPreTick=*/false);
-
-    // Ground: an infinite plane, a field of low bumps across the road ahead, and a ramp.
-    m.addStatic(std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), 0), btTransform::getIdentity());
-    for (int i = 0; i < 6; ++i) {  // cylinders lying across the road, mostly sunk: 8 cm bumps
-        const double r = 0.35, z = 18 + 2.5 * i;
-        GroundProp prop;
-        prop.shape = GroundProp::Shape::Cylinder;
-        prop.halfExtents = {r, 4.0, r};
-        prop.transform.translation() = Eigen::Vector3d(0, 0.08 - r, z);
-        prop.transform.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-        props_.push_back(prop);
-    }
-    {   // a ramp to the right of the start line
-        GroundProp prop;
-        prop.halfExtents = {3.0, 0.5, 6.0};
-        prop.transform.translation() = Eigen::Vector3d(-12, -0.1, 40);
-        prop.transform.linear() = Eigen::AngleAxisd(-0.12, Eigen::Vector3d::UnitX()).toRotationMatrix();
-        props_.push_back(prop);
-    }
-    for (const GroundProp& prop : props_) {
+// Adds the ground: an infinite plane, then the props.
+void VehicleWorld::Impl::addGround(const std::vector<GroundProp>& props) {
+    addStatic(std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), 0), btTransform::getIdentity());
+    for (const GroundProp& prop : props) {
         std::unique_ptr<btCollisionShape> shape;
         if (prop.shape == GroundProp::Shape::Box) shape = std::make_unique<btBoxShape>(bt(prop.halfExtents));
         else shape = std::make_unique<btCylinderShape>(bt(prop.halfExtents));
@@ -97,10 +102,12 @@ VehicleWorld::VehicleWorld(const VehicleParams& p) : impl_(std::make_unique<Impl
         t.setOrigin(bt(prop.transform.translation()));
         const Eigen::Quaterniond q(prop.transform.linear());
         t.setRotation(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())));
-        m.addStatic(std::move(shape), t);
+        addStatic(std::move(shape), t);
     }
+}
 
-    // Chassis: a box whose centre of mass sits low enough that hard turns do not roll it.
+// Adds the chassis, a box whose centre of mass sits low enough that hard turns do not roll it.
+void VehicleWorld::Impl::addChassis(const VehicleParams& p) {
     auto compound = std::make_unique<btCompoundShape>();
     auto box = std::make_unique<btBoxShape>(bt(p.halfExtents));
     btTransform local;
@@ -113,25 +120,28 @@ VehicleWorld::VehicleWorld(const VehicleParams& p) : impl_(std::make_unique<Impl
     start.setIdentity();
     start.setOrigin(bt(p.spawn));
     start.setRotation(btQuaternion(btVector3(0, 1, 0), btScalar(p.heading)));
-    m.chassisMotion = std::make_unique<btDefaultMotionState>(start);
-    btRigidBody::btRigidBodyConstructionInfo info(btScalar(p.mass), m.chassisMotion.get(),
+    chassisMotion = std::make_unique<btDefaultMotionState>(start);
+    btRigidBody::btRigidBodyConstructionInfo info(btScalar(p.mass), chassisMotion.get(),
                                                   compound.get(), inertia);
-    m.chassis = std::make_unique<btRigidBody>(info);
+    chassis = std::make_unique<btRigidBody>(info);
     // Without this the chassis falls asleep at rest and ignores the engine.
-    m.chassis->setActivationState(DISABLE_DEACTIVATION);
-    m.world.addRigidBody(m.chassis.get());
-    m.shapes.push_back(std::move(box));
-    m.shapes.push_back(std::move(compound));
+    chassis->setActivationState(DISABLE_DEACTIVATION);
+    world.addRigidBody(chassis.get());
+    shapes.push_back(std::move(box));
+    shapes.push_back(std::move(compound));
+}
 
+// Adds the raycast vehicle on the chassis: four wheels with their suspension and grip.
+void VehicleWorld::Impl::addVehicle(const VehicleParams& p) {
     btRaycastVehicle::btVehicleTuning tuning;
     tuning.m_suspensionStiffness = btScalar(p.suspensionStiffness);
     tuning.m_suspensionDamping = btScalar(p.dampingRelaxation);
     tuning.m_suspensionCompression = btScalar(p.dampingCompression);
     tuning.m_frictionSlip = btScalar(p.frictionSlip);
-    m.raycaster = std::make_unique<btDefaultVehicleRaycaster>(&m.world);
-    m.vehicle = std::make_unique<btRaycastVehicle>(tuning, m.chassis.get(), m.raycaster.get());
-    m.vehicle->setCoordinateSystem(0, 1, 2);  // right = x, up = y, forward = z
-    m.world.addVehicle(m.vehicle.get());
+    raycaster = std::make_unique<btDefaultVehicleRaycaster>(&world);
+    vehicle = std::make_unique<btRaycastVehicle>(tuning, chassis.get(), raycaster.get());
+    vehicle->setCoordinateSystem(0, 1, 2);  // right = x, up = y, forward = z
+    world.addVehicle(vehicle.get());
     const btVector3 down(0, -1, 0), axle(-1, 0, 0);
     const double hx = p.halfExtents.x() - 0.3 * p.wheelWidth, hz = p.halfExtents.z() - p.wheelRadius - 0.15;
     const double y = p.wheelConnectionHeight;
@@ -140,17 +150,28 @@ VehicleWorld::VehicleWorld(const VehicleParams& p) : impl_(std::make_unique<Impl
                                  {btScalar(hx), btScalar(y), btScalar(-hz)},
                                  {btScalar(-hx), btScalar(y), btScalar(-hz)}};
     for (int i = 0; i < 4; ++i)
-        m.vehicle->addWheel(points[i], down, axle, btScalar(p.suspensionRestLength),
-                            btScalar(p.wheelRadius), tuning, /*isFrontWheel=*/i < 2);
+        vehicle->addWheel(points[i], down, axle, btScalar(p.suspensionRestLength),
+                          btScalar(p.wheelRadius), tuning, /*isFrontWheel=*/i < 2);
     for (int i = 0; i < 4; ++i) {
-        btWheelInfo& w = m.vehicle->getWheelInfo(i);
+        btWheelInfo& w = vehicle->getWheelInfo(i);
         w.m_suspensionStiffness = btScalar(p.suspensionStiffness);
         w.m_wheelsDampingRelaxation = btScalar(p.dampingRelaxation);
         w.m_wheelsDampingCompression = btScalar(p.dampingCompression);
         w.m_frictionSlip = btScalar(p.frictionSlip);
         w.m_rollInfluence = btScalar(p.rollInfluence);
     }
-    m.vehicle->resetSuspension();
+    vehicle->resetSuspension();
+}
+
+VehicleWorld::VehicleWorld(const VehicleParams& p) : impl_(std::make_unique<Impl>()), params_(p) {
+    ++gWorlds;
+    Impl& m = *impl_;
+    m.world.setGravity(btVector3(0, -9.81f, 0));
+    m.world.setInternalTickCallback(&Impl::onTick, &m, /*isPreTick=*/false);
+    props_ = groundProps();
+    m.addGround(props_);
+    m.addChassis(p);
+    m.addVehicle(p);
 }
 
 VehicleWorld::~VehicleWorld() = default;
