@@ -455,6 +455,18 @@ def c_tight_tethers_hold(docs):
     return "tethers at 10% never hold all six cases; 3 passes are the fewest stable in 72 runs, 2 lose one"
 
 
+def c_float_as_stable_as_double(docs):
+    rows = docs.rows("default_candidates_extreme.csv")
+    out = []
+    for tail in ("strain_passes=3,tether=0.03", "strain_passes=4,tether=0.03"):
+        for prec in ("precision=float,", ""):
+            c = f"kangcho:iterations=1,{prec}strain_limit=0.1,{tail}"
+            mine = [r for r in rows if r["config"] == c]
+            need(len(mine) == 72 and all(stable(r) for r in mine), f"{c}: {sum(stable(r) for r in mine)} of {len(mine)} runs stable (docs: 72 of 72)")
+        out.append(tail.replace("strain_passes=", "").replace(",tether=0.03", " passes"))
+    return "float and double with tethers at 3% hold all 72 runs alike with " + " and ".join(out)
+
+
 def c_default_stays_below_pole_top(docs):
     rows = docs.rows("rest_climb.csv")
     solver = DEMO_DEFAULT.replace("iterations=1,", "")
@@ -647,6 +659,7 @@ DOC_CHECKS = [
     ("tethers_alone_fail", c_tethers_alone_fail),
     # docs/study.md, the demo default's design
     ("tight_tethers_hold", c_tight_tethers_hold),
+    ("float_as_stable_as_double", c_float_as_stable_as_double),
     ("default_stays_below_pole_top", c_default_stays_below_pole_top),
     ("pass_in_spring_order", c_pass_in_spring_order),
     ("default_cheaper_than_previous", c_default_cheaper_than_previous),
