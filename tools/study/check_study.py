@@ -602,6 +602,8 @@ def c_warm_start_helps(docs):
     h1 = [num(mg(docs, "multigrid_start.csv", n, "multigrid:start_history=1")["solve_error"]) for n in (17, 33, 65, 129)]
     h2 = [num(mg(docs, "multigrid_start.csv", n, "multigrid")["solve_error"]) for n in (17, 33, 65, 129)]
     need(h2[3] < h1[3], "two start vectors are not more accurate than one at 129x129")
+    h3 = [num(mg(docs, "multigrid_start.csv", n, "multigrid:start_history=3")["solve_error"]) for n in (17, 33, 65, 129)]
+    need(all(c >= b for b, c in zip(h2, h3)), f"three start vectors beat two somewhere: {h3} against {h2}")
     return "warm start / zero start solve error " + ", ".join(out) + f" (33, 65); two vectors {h2[3]} against one {h1[3]} at 129x129"
 
 
