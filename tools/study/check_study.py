@@ -411,21 +411,21 @@ def c_default_stable_all_extremes(docs):
     need(not bad, f"the demo default is unstable in {bad}")
     late = max(num(r["late_max_stretch"]) for r in rows if r["case"] == "stop_10g")
     need(late < 0.405, f"the demo default's 10 g stop ends at {late} stretch over its last second (docs: at most 40%)")
-    scene = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "assets", "scenes", "flag_vehicle.json")
-    shipped = "no assets/scenes/flag_vehicle.json beside this script: not compared with the scene"
-    if os.path.isfile(scene):
+    scenes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "assets", "scenes")
+    shipped = "no assets/scenes beside this script: not compared with the scenes"
+    if os.path.isdir(scenes):
         import json
-        with open(scene) as f:
-            s = dict(json.load(f)["flag"]["solver"])
-        if s.get("compression", True) is True:
-            s.pop("compression", None)
-        name = s.pop("name")
         want = dict(kv.split("=") for kv in DEMO_DEFAULT.split(":")[1].split(","))
-        same = name == "kangcho" and set(s) == set(want) and all(str(s[k]) == v or
-                                                                  (isinstance(s[k], (int, float)) and float(s[k]) == float(v))
-                                                                  for k, v in want.items())
-        need(same, f"flag_vehicle.json's solver {name} {s} is not the configuration the study ran ({DEMO_DEFAULT}): rerun it")
-        shipped = "the configuration flag_vehicle.json ships"
+        for name in ("flag_vehicle.json", "flag_vehicle_hd.json"):
+            with open(os.path.join(scenes, name)) as f:
+                s = dict(json.load(f)["flag"]["solver"])
+            if s.get("compression", True) is True:
+                s.pop("compression", None)
+            kind = s.pop("name")
+            same = kind == "kangcho" and set(s) == set(want) and all(
+                str(s[k]) == v or (isinstance(s[k], (int, float)) and float(s[k]) == float(v)) for k, v in want.items())
+            need(same, f"{name}'s solver {kind} {s} is not the configuration the study ran ({DEMO_DEFAULT}): rerun it")
+        shipped = "the configuration flag_vehicle.json and flag_vehicle_hd.json ship"
     return f"the demo default ({DEMO_DEFAULT}) is stable in all 72 extreme runs; {shipped}"
 
 
