@@ -54,8 +54,27 @@ cloth::StepInput inputOfStep(const cloth::HangingFlag& flag, Pole pole, int s) {
     return in;
 }
 
+// Multigrid's tuning next to what the study settled (cloth/solver.h, MultigridTuning).
+using Tune = void (*)(cloth::MultigridTuning&);
+void sweeps22(cloth::MultigridTuning& t) { t.preSweeps = t.postSweeps = 2; }
+void underCg(cloth::MultigridTuning& t) { t.krylov = true; }
+void globalStop(cloth::MultigridTuning& t) { t.localTolerance = 0; }
+void history1(cloth::MultigridTuning& t) { t.startHistory = 1; }
+void history3(cloth::MultigridTuning& t) { t.startHistory = 3; }
+void vCycles(cloth::MultigridTuning& t) { t.kcycleLevels = 0; }
+void kCycle(cloth::MultigridTuning& t) { t.kcycleLevels = 1; }
+void lag4(cloth::MultigridTuning& t) { t.coarseEvery = 4; }
+
+// A multigrid config's settled tuning changed by `tune`.
+void applyTuning(cloth::SolverConfig& config, Tune tune) {
+    auto& s = config.get<cloth::MultigridSettings>();
+    cloth::MultigridTuning t = cloth::settledTuning(s);
+    tune(t);
+    s.tuning = t;
+}
+
 // Arguments: the flag's side and the thread count (0: a solver without a thread setting).
-void stepFlag(benchmark::State& bm, const char* spec, Pole pole) {
+void stepFlag(benchmark::State& bm, const char* spec, Pole pole, Tune tune = nullptr) {
     cloth::HangingFlag flag = flagOfSize(static_cast<int>(bm.range(0)));
     cloth::SolverConfig config;
     std::string error;
@@ -64,6 +83,7 @@ void stepFlag(benchmark::State& bm, const char* spec, Pole pole) {
         bm.SkipWithError(("solver spec '" + std::string(spec) + "': " + error).c_str());
         return;
     }
+    if (tune) applyTuning(config, tune);
     auto solver = cloth::makeSolver(config);
     cloth::Environment env;
     constexpr int kWarmUp = 30;
@@ -185,8 +205,8 @@ BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_double, "multigrid:cycles=1", Pole
 BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_float, "multigrid:cycles=1,precision=float", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, multigrid_2_cycles_double, "multigrid:cycles=2", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 // V(2,2): two smoothing sweeps before and after the coarse correction (the default is V(1,1)).
-BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_v22_double, "multigrid:cycles=1,pre_sweeps=2,post_sweeps=2", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_v22_double, "multigrid:pre_sweeps=2,post_sweeps=2", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_1_cycle_v22_double, "multigrid:cycles=1", Pole::Still, sweeps22)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_v22_double, "multigrid", Pole::Still, sweeps22)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_double, "multigrid", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, multigrid_adaptive_float, "multigrid:precision=float", Pole::Still)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 // The goal rows again on the swung pole, where the flag moves in every timed step.
@@ -197,30 +217,30 @@ BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_float, "multigrid:cycles=1,p
 // One cycle under CG (its one iteration scales the cycle by a step length; a fixed cycle runs
 // alone by default: the step length moved the vehicle path's solve error by -4% to +7% at one
 // product with W more, docs/study/multigrid_start.csv).
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_cg_double, "multigrid:cycles=1,krylov=cg", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_cg_double, "multigrid:cycles=1", Pole::Swung, underCg)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_double, "multigrid", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_float, "multigrid:precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-// Mixed precision: the cycles in float under the double CG (cycle_precision=float).
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_mixed, "multigrid:cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_mixed, "multigrid:cycles=1,cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+// Mixed precision: the cycles in float under the double CG.
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_mixed, "multigrid:precision=mixed", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_mixed, "multigrid:cycles=1,precision=mixed", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // The adaptive stop on the relative residual alone, without the default's local test
 // (docs/multigrid.md, "The stopping test"; docs/study/multigrid_local_ensemble.csv).
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_double, "multigrid:local_tolerance=0", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_mixed, "multigrid:local_tolerance=0,cycle_precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_double, "multigrid", Pole::Swung, globalStop)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_global_mixed, "multigrid:precision=mixed", Pole::Swung, globalStop)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // The start from the last solve's dv alone (scaled to the least error), and from the last three:
 // the default combines the last two (docs/multigrid.md, "Start"; docs/study/multigrid_start.csv).
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_history1_double, "multigrid:start_history=1", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_history3_double, "multigrid:start_history=3", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_history1_double, "multigrid", Pole::Swung, history1)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_history3_double, "multigrid", Pole::Swung, history3)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 // V-cycles to 1e-3 instead of the default's K-cycle on level 1 to 1.5e-3, and one K-cycle (the
 // adaptive default runs K-cycles, a fixed count V-cycles): docs/study/multigrid_kcycle.csv.
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_double, "multigrid:kcycle=0,tolerance=1e-3", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_float, "multigrid:kcycle=0,tolerance=1e-3,precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_k1_double, "multigrid:cycles=1,kcycle=1", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-// The coarse operators rebuilt every 4th step and reused in between (coarse_every=4): on the
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_double, "multigrid:tolerance=1e-3", Pole::Swung, vCycles)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_v_float, "multigrid:tolerance=1e-3,precision=float", Pole::Swung, vCycles)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_1_cycle_k1_double, "multigrid:cycles=1", Pole::Swung, kCycle)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+// The coarse operators rebuilt every 4th step and reused in between (tuning coarseEvery = 4): on the
 // still pole 10-18% cheaper at the same cycle count; on the swung pole the cycles at 129x129 rise
 // from 7.8 to 13.4, which is why the default rebuilds them every step (docs/multigrid.md).
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_lag4_double, "multigrid:coarse_every=4", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_lag4_float, "multigrid:coarse_every=4,precision=float", Pole::Swung)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_lag4_double, "multigrid", Pole::Swung, lag4)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(stepFlag, swung_multigrid_adaptive_lag4_float, "multigrid:precision=float", Pole::Swung, lag4)->Apply(goalSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, exact_multigrid, "exact:method=multigrid", Pole::Still)->Args({33, 0})->Args({129, 0})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, exact_cholesky, "exact", Pole::Still)->Args({17, 0})->Args({33, 0})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(stepFlag, cg_1e-6, "cg:tolerance=1e-6", Pole::Still)->Args({33, 0})->Unit(benchmark::kMicrosecond);

@@ -32,6 +32,36 @@ void cgDefaults(SolverConfig& c) {
     c.settings = s;
 }
 
+// multigrid's own keys: what a user chooses. Its tuning (MultigridTuning) is not a key.
+std::vector<SolverKey> multigridKeys() {
+    using M = MultigridSettings;
+    using namespace keys;
+    using P = M::Precision;
+    return with({shown(integer<M>("cycles", &M::cycles, 0, 1000, "fixed cycles; 0 = adaptive (tolerance, max_cycles)")),
+                 real<M>("tolerance", &M::tolerance, 0, 1, true, true, "adaptive: relative residual to reach"),
+                 integer<M>("max_cycles", &M::maxCycles, 1, 1000, "adaptive: at most this many cycles"),
+                 integer<M>("threads", &M::threads, 1, 64, "worker threads (bit-identical results for any count)"),
+                 choice<M, P>("precision", &M::precision,
+                              {{"double", P::Double}, {"mixed", P::Mixed}, {"float", P::Float}},
+                              "arithmetic of the solve (the state stays double); mixed: float cycles "
+                              "preconditioning a double CG")},
+                true);
+}
+
+std::string multigridCheck(const SolverConfig& c) {
+    const MultigridSettings& s = c.get<MultigridSettings>();
+    if (s.precision == MultigridSettings::Precision::Float && s.tolerance < 1e-6)
+        return "solver 'multigrid' parameter tolerance = " + std::to_string(s.tolerance) +
+               " is below what precision=float can reach (>= 1e-6)";
+    if (!s.tuning) return {};
+    if (s.tuning->preSweeps + s.tuning->postSweeps == 0)
+        return "solver 'multigrid': its tuning has no smoothing sweeps (pre + post must be at least 1)";
+    if (s.precision == MultigridSettings::Precision::Mixed && !s.tuning->krylov)
+        return "solver 'multigrid' parameter precision = mixed needs its tuning's CG (the double CG corrects the "
+               "float cycles)";
+    return {};
+}
+
 }  // namespace
 
 // The solver table: every kind with its keys. Rows are name, type, range, default (from the
@@ -39,7 +69,6 @@ void cgDefaults(SolverConfig& c) {
 const std::vector<SolverKind>& solverKinds() {
     using namespace keys;
     using K = KangChoSettings;
-    using M = MultigridSettings;
     using C = ChebyshevSettings;
     using X = ExplicitSettings;
     static const std::vector<SolverKind> kinds = {
@@ -58,63 +87,7 @@ const std::vector<SolverKind>& solverKinds() {
         {"cg", "exact with method=cg: conjugate gradients, diagonal preconditioner", cgDefaults, exactKeys(false), {},
          makeExactSolver},
         {"multigrid", "multigrid cycles on the same system (damped Jacobi smoother, Galerkin coarse levels), as CG's preconditioner",
-         defaultsTo<M>,
-         with(std::vector<SolverKey>{
-                  shown(integer<M>("cycles", &M::cycles, 0, 1000, "fixed cycles; 0 = adaptive (tolerance, max_cycles)")),
-                  real<M>("tolerance", &M::tolerance, 0, 1, true, true, "adaptive: relative residual to reach"),
-                  integer<M>("max_cycles", &M::maxCycles, 1, 1000, "adaptive: at most this many cycles"),
-                  real<M>("local_tolerance", &M::localTolerance, 0, 1, false, true,
-                          "adaptive: also no particle's |W_ii^-1 r_i| above this times max |dv_i| (0 = off)"),
-                  integer<M>("pre_sweeps", &M::preSweeps, 0, 100, "smoothing sweeps before the coarse correction"),
-                  integer<M>("post_sweeps", &M::postSweeps, 0, 100, "smoothing sweeps after it"),
-                  real<M>("damping", &M::damping, 0, 1.5, true, false, "smoother: x += damping W_ii^-1 r"),
-                  choice<M, M::Coarsening>("coarsening", &M::coarsening,
-                                           {{"auto", M::Coarsening::Auto},
-                                            {"geometric", M::Coarsening::Geometric},
-                                            {"aggregation", M::Coarsening::Aggregation}},
-                                           "auto: geometric on grids, smoothed aggregation on meshes"),
-                  choice<M, M::CoarseOperator>("coarse", &M::coarseOperator,
-                                               {{"galerkin", M::CoarseOperator::Galerkin},
-                                                {"rediscretize", M::CoarseOperator::Rediscretized}},
-                                               "coarse operators: P^T W P, or the cloth re-discretized (grids)"),
-                  integer<M>("coarse_every", &M::coarseEvery, 1, 1000,
-                             "rebuild the coarse operators every this many steps (reused in between while "
-                             "pins and h are unchanged; on a moving flag the cycles rise)"),
-                  choice<M, bool>("bend", &M::collapseBend, {{"collapse", true}, {"keep", false}},
-                                  "Galerkin on grids: coarse levels see each bend spring as two over its halves "
-                                  "(9-point coarse stencil), or as it is"),
-                  choice<M, M::Krylov>("krylov", &M::krylov,
-                                       {{"auto", M::Krylov::Auto}, {"cg", M::Krylov::CG}, {"none", M::Krylov::None}},
-                                       "cg: cycles precondition CG; none: cycles alone; auto: cg, but one fixed "
-                                       "cycle alone"),
-                  integer<M>("kcycle", &M::kcycleLevels, -1, 100,
-                             "coarse levels 1..N solved by two flexible CG iterations preconditioned by a "
-                             "cycle (K-cycle); 0: V-cycle; -1: 1 when adaptive, 0 for a fixed count"),
-                  choice<M, M::Start>("start", &M::start,
-                                      {{"auto", M::Start::Auto}, {"previous", M::Start::Previous}, {"zero", M::Start::Zero}},
-                                      "each solve from the last steps' dv (their best combination, start_history) "
-                                      "or from zero; auto: previous when adaptive"),
-                  integer<M>("start_history", &M::startHistory, 1, 8,
-                             "start from the combination of the last N solves' dv with the least error in "
-                             "W's energy norm (one product with W each; 2 spans the linear extrapolation)"),
-                  choice<M, bool>("cycle_precision", &M::floatCycles, {{"same", false}, {"float", true}},
-                                  "arithmetic of the cycles (CG's preconditioner): as the solve's, or float under "
-                                  "a double CG (mixed precision)")} +
-                  parallel<M>("arithmetic of the solve (the state stays double)"),
-              true),
-         [](const SolverConfig& c) -> std::string {
-             const M& s = c.get<M>();
-             if (s.preSweeps + s.postSweeps == 0) return "solver 'multigrid': pre_sweeps + post_sweeps must be at least 1";
-             if (s.floatCycles && (s.singlePrecision || s.krylov == M::Krylov::None))
-                 return std::string("solver 'multigrid' parameter cycle_precision = float needs precision = double and "
-                                    "krylov = cg (the double CG corrects the float cycles), not ") +
-                        (s.singlePrecision ? "precision = float" : "krylov = none");
-             if (s.singlePrecision && s.tolerance < 1e-6)
-                 return "solver 'multigrid' parameter tolerance = " + std::to_string(s.tolerance) +
-                        " is below what precision=float can reach (>= 1e-6)";
-             return {};
-         },
-         makeMultigridSolver},
+         defaultsTo<MultigridSettings>, multigridKeys(), multigridCheck, makeMultigridSolver},
         {"chebyshev", "Jacobi with Chebyshev semi-iterative acceleration (Wang 2015)", defaultsTo<C>,
          with({shown(integer<C>("iterations", &C::iterations, 0, 100000, "accelerated Jacobi sweeps after dv(0)")),
                real<C>("rho", &C::rho, 0, 1, false, true, "Jacobi spectral radius; 0 = estimated each step")},

@@ -2,6 +2,7 @@
 // independent computation: the system assembled by the reference path (system.cpp) and solved
 // densely or by sparse Cholesky, dense triple products, central finite differences.
 
+#include <functional>
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -11,7 +12,8 @@
 #include "cloth/air.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
-#include "multigrid.h"
+#include "multigrid/multigrid.h"
+#include "solver_table.h"
 
 using namespace cloth;
 
@@ -90,8 +92,31 @@ std::unique_ptr<Solver> solverFor(const std::string& spec) {
     return makeSolver(config);
 }
 
-Points stepDv(const std::string& spec, const Case& c, const Environment& env = {}) {
-    auto solver = solverFor(spec);
+// A multigrid solver of `spec` with its settled tuning changed by `tune`.
+using Tune = std::function<void(MultigridTuning&)>;
+std::unique_ptr<Solver> solverFor(const std::string& spec, const Tune& tune) {
+    SolverConfig config;
+    std::string error;
+    EXPECT_TRUE(parseSolverConfig(spec, config, &error)) << error;
+    MultigridSettings& s = config.get<MultigridSettings>();
+    MultigridTuning t = settledTuning(s);
+    tune(t);
+    s.tuning = t;
+    auto solver = makeSolver(config, &error);
+    EXPECT_TRUE(solver) << error;
+    return solver;
+}
+
+// Settings with their settled tuning changed by `tune`.
+MultigridSettings tuned(MultigridSettings s, const Tune& tune) {
+    MultigridTuning t = settledTuning(s);
+    tune(t);
+    s.tuning = t;
+    return s;
+}
+
+Points stepDv(const std::string& spec, const Case& c, const Environment& env = {}, const Tune& tune = nullptr) {
+    auto solver = tune ? solverFor(spec, tune) : solverFor(spec);
     State state = c.state;
     const StepResult r = solver->step(c.model, env, state, inputOf(c));
     EXPECT_EQ(r.status, StepStatus::Ok) << spec;
@@ -115,10 +140,8 @@ TEST(Multigrid, OneVCycleReducesTheResidualOfARandomRightHandSideFivefold) {
         LinearSystem sys;
         buildSystem(c.model, {}, c.state, inputOf(c), true, sys);
         const Eigen::SparseMatrix<Scalar> W = assembleMatrix(c.model, sys);
-        for (const int sweeps : {2, MultigridSettings{}.preSweeps}) {
-            MultigridSettings settings;
-            settings.preSweeps = settings.postSweeps = sweeps;
-            Multigrid<double> mg(settings);
+        for (const int sweeps : {2, MultigridTuning{}.preSweeps}) {
+            Multigrid<double> mg(tuned({}, [&](MultigridTuning& t) { t.preSweeps = t.postSweeps = sweeps; }));
             mg.prepareSystem(c.model, {}, c.state, inputOf(c), true);
             std::mt19937 rng(11);
             std::normal_distribution<Scalar> normal;
@@ -161,16 +184,15 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
     // 11x8: the plan on every level (an even side); 21x17 -> 11x9 -> 6x5 -> 3x3: the stencil
     // product from the cloth's bands (level 0) and from a Galerkin level's bands (level 1), then
     // the plan; 25x15 -> 13x8: by stencil into a banded level that a plan then reads (its block
-    // copy filled from the bands); the mesh: aggregation, the plan. Every grid twice: with its
-    // bend springs as they are, and collapsed onto their halves for the coarse levels (then level 1
-    // is P^T S P with S from denselyCollapsed).
+    // copy filled from the bands); the mesh: aggregation, the plan. On grids the bend springs are
+    // collapsed onto their halves for the coarse levels (level 1 is P^T S P with S from
+    // denselyCollapsed).
     struct Path {
         Size s;
         const char* path;  // in describeHierarchy()
     };
     for (const auto& [s, path] : {Path{{11, 8, false}, "(Galerkin"}, Path{{21, 17, false}, "by stencil on 2 of 3 coarse levels"},
-                                   Path{{25, 15, false}, "by stencil on 1 of"}, Path{{11, 8, true}, "(Galerkin)"}})
-    for (const bool collapse : {false, true}) {
+                                   Path{{25, 15, false}, "by stencil on 1 of"}, Path{{11, 8, true}, "(Galerkin)"}}) {
         const bool mesh = s.mesh;
         Case c = stiffCase(s.nx, s.ny, mesh, 5);
         // And one pinned particle inside, whose bend springs' ends are free.
@@ -180,20 +202,18 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
         Environment env;
         env.drag = 0.5;
         buildSystem(c.model, env, c.state, inputOf(c), true, sys);
-        MultigridSettings settings;
-        settings.stencilGalerkinMinRow = 0;  // by stencil on grids this small too
-        settings.collapseBend = collapse;
-        Multigrid<double> mg(settings);
+        // by stencil on grids this small too
+        Multigrid<double> mg(tuned({}, [](MultigridTuning& t) { t.stencilGalerkinMinRow = 0; }));
         mg.prepareSystem(c.model, env, c.state, inputOf(c), true);
         mg.vcycle(Eigen::VectorXd::Zero(3 * c.model.particleCount()));  // builds the coarse levels
         ASSERT_GE(mg.levels(), 2);
         const std::string hierarchy = mg.describeHierarchy();
         EXPECT_NE(hierarchy.find(path), std::string::npos) << hierarchy;
-        EXPECT_EQ(hierarchy.find("with bend springs collapsed") != std::string::npos, collapse && !mesh) << hierarchy;
+        EXPECT_EQ(hierarchy.find("with bend springs collapsed") != std::string::npos, !mesh) << hierarchy;
         // Level 0 is the reference W of the free particles.
         const Eigen::MatrixXd W = referenceFreeMatrix(c, sys);
         EXPECT_LT((mg.matrix(0).dense() - W).norm(), 1e-10 * W.norm()) << (mesh ? "mesh" : "grid");
-        Eigen::MatrixXd A = collapse && !mesh ? denselyCollapsed(c, sys, W) : W;
+        Eigen::MatrixXd A = !mesh ? denselyCollapsed(c, sys, W) : W;
         for (int l = 0; l + 1 < mg.levels(); ++l) {
             const Eigen::MatrixXd P = mg.prolongation(l);
             // Interpolation reproduces constants: every row of P sums to one.
@@ -213,10 +233,8 @@ TEST(Multigrid, AKCycleLevelReturnsTheEnergyMinimizerOverItsTwoCycles) {
     // Here c1 and c2 come from a V-cycle solver, and the minimizer from the dense 2x2 projection.
     for (const Size s : {Size{65, 65, false}, Size{40, 27, false}, Size{41, 33, true}}) {
         const Case c = stiffCase(s.nx, s.ny, s.mesh, 5);
-        MultigridSettings vs, ks;
-        vs.kcycleLevels = 0;
-        ks.kcycleLevels = 1;
-        Multigrid<double> v(vs), k(ks);
+        Multigrid<double> v(tuned({}, [](MultigridTuning& t) { t.kcycleLevels = 0; }));
+        Multigrid<double> k(tuned({}, [](MultigridTuning& t) { t.kcycleLevels = 1; }));
         v.prepareSystem(c.model, {}, c.state, inputOf(c), true);
         k.prepareSystem(c.model, {}, c.state, inputOf(c), true);
         k.vcycle(Eigen::VectorXd::Zero(3 * c.model.particleCount()));  // builds the coarse levels
@@ -248,13 +266,12 @@ TEST(Multigrid, ToTenToTheMinusTenEqualsTheCholeskySolve) {
         Environment env;
         env.drag = 0.2;
         const Points chol = stepDv("exact", c, env);
-        for (const char* spec : {"exact:method=multigrid", "multigrid:tolerance=1e-10,max_cycles=200",
-                                 "multigrid:tolerance=1e-10,max_cycles=200,kcycle=2",
-                                 "multigrid:tolerance=1e-10,max_cycles=200,cycle_precision=float",
-                                 "multigrid:tolerance=1e-10,max_cycles=200,kcycle=0,cycle_precision=float"}) {
-            const Points mg = stepDv(spec, c, env);
-            EXPECT_LT((mg - chol).norm() / chol.norm(), 1e-8) << spec << (mesh ? " mesh" : " grid");
-        }
+        EXPECT_LT((stepDv("exact:method=multigrid", c, env) - chol).norm() / chol.norm(), 1e-8) << (mesh ? " mesh" : " grid");
+        for (const char* spec : {"multigrid:tolerance=1e-10,max_cycles=200", "multigrid:tolerance=1e-10,max_cycles=200,precision=mixed"})
+            for (const int kcycle : {0, 1, 2}) {
+                const Points mg = stepDv(spec, c, env, [&](MultigridTuning& t) { t.kcycleLevels = kcycle; });
+                EXPECT_LT((mg - chol).norm() / chol.norm(), 1e-8) << spec << " kcycle " << kcycle << (mesh ? " mesh" : " grid");
+            }
     }
 }
 
@@ -306,10 +323,11 @@ TEST(Multigrid, TheLocalToleranceBoundsEveryParticlesJacobiCorrection) {
         for (int col = 15; col < 18; ++col) pushed.external.col(row * 33 + col) += Vec3(0, 0, 6);
     LinearSystem sys;
     buildSystem(pushed.model, {}, pushed.state, inputOf(pushed), true, sys);
-    for (const std::string options : {"", ",krylov=none", ",cycle_precision=float"}) {
-        const std::string spec = "multigrid:tolerance=1e-2,max_cycles=100" + options;
-        auto off = solverFor(spec + ",local_tolerance=0");
-        auto on = solverFor(spec + ",local_tolerance=1e-2");
+    for (const std::string options : {"", " stationary", ",precision=mixed"}) {
+        const std::string spec = "multigrid:tolerance=1e-2,max_cycles=100" + (options[0] == ',' ? options : "");
+        const bool krylov = options != " stationary";
+        auto off = solverFor(spec, [&](MultigridTuning& t) { t.localTolerance = 0, t.krylov = krylov; });
+        auto on = solverFor(spec, [&](MultigridTuning& t) { t.localTolerance = 1e-2, t.krylov = krylov; });
         StepResult r[2];
         for (int k = 0; k < 2; ++k) {
             Solver& solver = k ? *on : *off;
@@ -336,7 +354,8 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneA
     HangingFlag flag = makeHangingFlag(d);
     const double tol = 1e-4;
     const std::string spec = "multigrid:tolerance=1e-4,max_cycles=50";
-    auto warm = solverFor(spec);  // start=auto: the previous dv when adaptive
+    auto warm = solverFor(spec);  // settled: the last solves when adaptive
+    const Tune zero = [](MultigridTuning& t) { t.startHistory = 0; };
     StepInput in;
     in.h = 1.0 / 240;
     in.pins = flag.pins;
@@ -344,7 +363,7 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneA
     for (int k = 0; k < 10; ++k) {
         LinearSystem sys;
         buildSystem(flag.model, {}, flag.state, in, true, sys);
-        auto cold = solverFor(spec + ",start=zero");
+        auto cold = solverFor(spec, zero);
         State coldState = flag.state;
         const StepResult rc = cold->step(flag.model, {}, coldState, in);
         const StepResult rw = warm->step(flag.model, {}, flag.state, in);
@@ -368,7 +387,7 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneA
     // cycles a cold solve takes (never worse in the energy norm than starting from zero).
     const Points push = Points::Constant(3, flag.model.particleCount(), 100.0);
     in.externalForce = &push;
-    auto cold = solverFor(spec + ",start=zero");
+    auto cold = solverFor(spec, zero);
     State coldState = flag.state;
     const StepResult rc = cold->step(flag.model, {}, coldState, in);
     {
@@ -391,21 +410,21 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneA
 }
 
 TEST(Multigrid, OneFixedCycleRunsAloneUnlessCgIsAskedFor) {
-    // krylov=auto: one fixed cycle is the cycle alone (the stationary iteration's one step), not
-    // CG's one iteration, which scales it by a step length; two cycles run under CG.
+    // Settled: one fixed cycle is the cycle alone (the stationary iteration's one step), not CG's
+    // one iteration, which scales it by a step length; two cycles run under CG.
     const Case c = stiffCase(33, 33, false, 3);
-    auto dvOf = [&](const std::string& spec) {
-        auto solver = solverFor(spec);
+    auto dvOf = [&](const std::string& spec, int krylov = -1) {
+        auto solver = krylov < 0 ? solverFor(spec) : solverFor(spec, [&](MultigridTuning& t) { t.krylov = krylov == 1; });
         State s = c.state;
         EXPECT_EQ(solver->step(c.model, {}, s, inputOf(c)).status, StepStatus::Ok) << spec;
         return solver->lastDv();
     };
-    EXPECT_EQ(dvOf("multigrid:cycles=1"), dvOf("multigrid:cycles=1,krylov=none"));
-    EXPECT_NE(dvOf("multigrid:cycles=1"), dvOf("multigrid:cycles=1,krylov=cg"));
-    EXPECT_EQ(dvOf("multigrid:cycles=2"), dvOf("multigrid:cycles=2,krylov=cg"));
-    EXPECT_NE(dvOf("multigrid:cycles=2"), dvOf("multigrid:cycles=2,krylov=none"));
+    EXPECT_EQ(dvOf("multigrid:cycles=1"), dvOf("multigrid:cycles=1", 0));
+    EXPECT_NE(dvOf("multigrid:cycles=1"), dvOf("multigrid:cycles=1", 1));
+    EXPECT_EQ(dvOf("multigrid:cycles=2"), dvOf("multigrid:cycles=2", 1));
+    EXPECT_NE(dvOf("multigrid:cycles=2"), dvOf("multigrid:cycles=2", 0));
     // Float cycles need CG: one mixed-precision cycle still runs under it.
-    EXPECT_EQ(dvOf("multigrid:cycles=1,cycle_precision=float"), dvOf("multigrid:cycles=1,cycle_precision=float,krylov=cg"));
+    EXPECT_EQ(dvOf("multigrid:cycles=1,precision=mixed"), dvOf("multigrid:cycles=1,precision=mixed", 1));
 }
 
 TEST(Multigrid, TwoPreviousSolvesSpanALinearlyChangingSolutionSoEachSolveNeedsAtMostOneCycle) {
@@ -417,7 +436,10 @@ TEST(Multigrid, TwoPreviousSolvesSpanALinearlyChangingSolutionSoEachSolveNeedsAt
     const Case c = stiffCase(33, 33, false, 5);
     const int n = c.model.particleCount();
     auto run = [&](int history, double* residual) {
-        auto solver = solverFor("multigrid:tolerance=1e-8,local_tolerance=0,start=previous,start_history=" + std::to_string(history));
+        auto solver = solverFor("multigrid:tolerance=1e-8", [&](MultigridTuning& t) {
+            t.localTolerance = 0;
+            t.startHistory = history;
+        });
         int cycles = 0;
         for (int k = 0; k < 6; ++k) {
             Points force(3, n);
@@ -453,8 +475,8 @@ TEST(Multigrid, ReusedCoarseOperatorsStillReachTheToleranceAndAreRebuiltWhenTheP
     in.h = 1.0 / 240;
     in.pins = flag.pins;
     const double tol = 1e-4;
-    auto lagged = solverFor("multigrid:tolerance=1e-4,max_cycles=50,coarse_every=8");
-    auto lagged1 = solverFor("multigrid:cycles=1,coarse_every=1000");
+    auto lagged = solverFor("multigrid:tolerance=1e-4,max_cycles=50", [](MultigridTuning& t) { t.coarseEvery = 8; });
+    auto lagged1 = solverFor("multigrid:cycles=1", [](MultigridTuning& t) { t.coarseEvery = 1000; });
     State oneCycle = flag.state;
     for (int k = 0; k < 10; ++k) {
         // The residual of the reference path's system at this step, not the solver's own.
@@ -482,22 +504,22 @@ TEST(Multigrid, ReusedCoarseOperatorsStillReachTheToleranceAndAreRebuiltWhenTheP
 
 TEST(Multigrid, OneAndTwoThreadsAreBitIdentical) {
     for (const Size s : {Size{37, 29, false}, Size{37, 29, true}, Size{65, 11, false}})
-        for (const char* cycle : {"", "kcycle=1,"})
-            for (const char* precision : {"double", "float", "double,cycle_precision=float"}) {
+        for (const int kcycle : {0, 1})
+            for (const char* precision : {"double", "float", "mixed"}) {
                 const bool mesh = s.mesh;
                 const Case c = stiffCase(s.nx, s.ny, mesh, 2);
                 std::vector<State> finals;
                 for (const int threads : {1, 2}) {
-                    auto solver = solverFor(std::string("multigrid:") + cycle + "precision=" + precision +
-                                            ",threads=" + std::to_string(threads));
+                    auto solver = solverFor(std::string("multigrid:precision=") + precision + ",threads=" + std::to_string(threads),
+                                            [&](MultigridTuning& t) { t.kcycleLevels = kcycle; });
                     State state = c.state;
                     for (int k = 0; k < 5; ++k)
                         ASSERT_EQ(solver->step(c.model, {}, state, inputOf(c)).status, StepStatus::Ok);
                     finals.push_back(state);
                 }
                 const auto bytes = sizeof(Scalar) * std::size_t(finals[0].x.size());
-                EXPECT_EQ(std::memcmp(finals[0].x.data(), finals[1].x.data(), bytes), 0) << cycle << precision << mesh << s.nx;
-                EXPECT_EQ(std::memcmp(finals[0].v.data(), finals[1].v.data(), bytes), 0) << cycle << precision << mesh << s.nx;
+                EXPECT_EQ(std::memcmp(finals[0].x.data(), finals[1].x.data(), bytes), 0) << kcycle << precision << mesh << s.nx;
+                EXPECT_EQ(std::memcmp(finals[0].v.data(), finals[1].v.data(), bytes), 0) << kcycle << precision << mesh << s.nx;
             }
 }
 
@@ -507,41 +529,49 @@ TEST(Multigrid, FloatPrecisionFollowsTheDoubleSolve) {
     const Points f = stepDv("multigrid:cycles=3,precision=float", c);
     EXPECT_LT((d - f).norm() / d.norm(), 1e-4);
     // Cycles in float under the double CG (level 0 rounded from the double system, coarse levels
-    // built from it): the same to the float cycles' rounding, on a grid (both coarse operators)
-    // and on a mesh.
-    for (const bool mesh : {false, true})
-        for (const char* coarse : {"galerkin", "rediscretize"}) {
-            if (mesh && std::string(coarse) == "rediscretize") continue;  // grids only
-            const Case k = stiffCase(33, 25, mesh, 8);
-            const std::string spec = std::string("multigrid:cycles=3,coarse=") + coarse;
-            const Points dd = stepDv(spec, k), m = stepDv(spec + ",cycle_precision=float", k);
-            EXPECT_LT((dd - m).norm() / dd.norm(), 1e-4) << coarse << mesh;
-            EXPECT_GT((dd - m).norm(), 0.0) << coarse << mesh;  // the float hierarchy did run
-        }
+    // built from it): the same to the float cycles' rounding, on a grid and on a mesh.
+    for (const bool mesh : {false, true}) {
+        const Case k = stiffCase(33, 25, mesh, 8);
+        const Points dd = stepDv("multigrid:cycles=3", k), m = stepDv("multigrid:cycles=3,precision=mixed", k);
+        EXPECT_LT((dd - m).norm() / dd.norm(), 1e-4) << mesh;
+        EXPECT_GT((dd - m).norm(), 0.0) << mesh;  // the float hierarchy did run
+    }
 }
 
-TEST(SolverConfig, MultigridParametersParseAndFloatCannotPromiseAnExactSolve) {
+TEST(SolverConfig, MultigridKeysAreWhatAUserChoosesAndItsTuningIsChecked) {
     SolverConfig c;
     std::string error;
     ASSERT_TRUE(parseSolverConfig("multigrid", c, &error)) << error;
     EXPECT_EQ(c.get<MultigridSettings>().tolerance, 1.5e-3);
     EXPECT_EQ(c.get<MultigridSettings>().maxCycles, 16);
     EXPECT_EQ(c.get<MultigridSettings>().cycles, 0);
-    EXPECT_EQ(c.get<MultigridSettings>().kLevels(), 1);  // auto: a K-cycle on level 1 when adaptive
+    EXPECT_EQ(settledTuning(c.get<MultigridSettings>()).kcycleLevels, 1);  // a K-cycle on level 1 when adaptive
     ASSERT_TRUE(parseSolverConfig("multigrid:cycles=2", c, &error)) << error;
-    EXPECT_EQ(c.get<MultigridSettings>().kLevels(), 0);  // ... and a V-cycle for a fixed count
-    EXPECT_FALSE(parseSolverConfig("multigrid:kcycle=-2", c, &error));
-    EXPECT_NE(error.find("kcycle"), std::string::npos) << error;
+    EXPECT_EQ(settledTuning(c.get<MultigridSettings>()).kcycleLevels, 0);  // ... and a V-cycle for a fixed count
+    // At most six keys of its own; the tuning is not among them.
+    const SolverKind* kind = findSolverKind("multigrid");
+    ASSERT_TRUE(kind);
+    int own = 0;
+    for (const SolverKey& k : kind->keys) {
+        const std::string name = k.name;
+        own += name != "compression" && name != "strain_limit" && name != "strain_passes" && name != "tether";
+    }
+    EXPECT_LE(own, 6);
+    for (const char* key : {"kcycle=1", "pre_sweeps=2", "damping=0.5", "start=zero", "coarse=rediscretize"}) {
+        EXPECT_FALSE(parseSolverConfig(std::string("multigrid:") + key, c, &error)) << key;
+        EXPECT_NE(error.find(std::string(key).substr(0, std::string(key).find('='))), std::string::npos) << error;
+    }
     EXPECT_FALSE(parseSolverConfig("multigrid:precision=float,tolerance=1e-10", c, &error));
     EXPECT_NE(error.find("precision=float"), std::string::npos) << error;
-    for (const char* spec : {"multigrid:precision=float,cycle_precision=float", "multigrid:krylov=none,cycle_precision=float"}) {
-        EXPECT_FALSE(parseSolverConfig(spec, c, &error)) << spec;
-        EXPECT_NE(error.find("cycle_precision"), std::string::npos) << error;
-    }
-    EXPECT_FALSE(parseSolverConfig("multigrid:pre_sweeps=0,post_sweeps=0", c, &error));
-    EXPECT_FALSE(parseSolverConfig("multigrid:damping=0", c, &error));
-    EXPECT_FALSE(parseSolverConfig("multigrid:coarsening=magic", c, &error));
-    EXPECT_NE(error.find("coarsening"), std::string::npos) << error;
+    ASSERT_TRUE(parseSolverConfig("multigrid:precision=mixed", c, &error)) << error;
+    MultigridTuning t = settledTuning(c.get<MultigridSettings>());
+    t.krylov = false;
+    c.get<MultigridSettings>().tuning = t;
+    EXPECT_NE(validate(c).find("precision = mixed"), std::string::npos) << validate(c);
+    t.krylov = true;
+    t.preSweeps = t.postSweeps = 0;
+    c.get<MultigridSettings>().tuning = t;
+    EXPECT_NE(validate(c).find("smoothing sweeps"), std::string::npos) << validate(c);
 }
 
 // Implicit air: the velocity Jacobian's diagonal blocks against central differences of the air
@@ -634,9 +664,8 @@ TEST(SolverConfig, DescribeParsesBackToTheSameConfig) {
     // The study labels rows with describe() and re-parses it: the text must mean the same solver.
     for (const char* spec : {"kangcho", "kangcho:iterations=3,impl=gather,precision=float,threads=2",
                              "exact", "exact:method=multigrid", "cg:tolerance=1e-6", "multigrid",
-                             "multigrid:cycles=2,damping=0.5,coarsening=aggregation,coarse=rediscretize,krylov=none",
-                             "multigrid:precision=float,threads=2,strain_limit=0.1", "multigrid:start=zero,bend=keep",
-                             "multigrid:cycles=1,start=previous", "multigrid:kcycle=2", "multigrid:cycle_precision=float", "chebyshev:iterations=4", "explicit:substeps=3",
+                             "multigrid:cycles=2,max_cycles=3,tolerance=0.01", "multigrid:precision=float,threads=2,strain_limit=0.1",
+                             "multigrid:precision=mixed", "chebyshev:iterations=4", "explicit:substeps=3",
                              "desbrun"}) {
         SolverConfig a, b;
         std::string error;
@@ -644,8 +673,8 @@ TEST(SolverConfig, DescribeParsesBackToTheSameConfig) {
         ASSERT_TRUE(parseSolverConfig(a.describe(), b, &error)) << a.describe() << ": " << error;
         EXPECT_EQ(a.describe(), b.describe()) << spec;
         // A key that differs from its default is in the text (else two solvers share a label).
-        if (std::string(spec).find("start=") != std::string::npos) {
-            EXPECT_NE(a.describe().find("start="), std::string::npos) << a.describe();
+        if (std::string(spec).find("precision=") != std::string::npos) {
+            EXPECT_NE(a.describe().find("precision="), std::string::npos) << a.describe();
         }
     }
 }

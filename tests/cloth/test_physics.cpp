@@ -14,6 +14,7 @@
 //                       threads, against tests/cloth/golden_hashes.txt
 // Solvers are configured only through spec strings (parseSolverConfig + makeSolver).
 
+#include <functional>
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -49,12 +50,19 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Shared helpers
 
-std::unique_ptr<Solver> solverFor(const std::string& spec) {
+// The solver of `spec`; a multigrid one with its settled tuning changed by `tune`, where given.
+std::unique_ptr<Solver> solverFor(const std::string& spec, const std::function<void(MultigridTuning&)>& tune = nullptr) {
     SolverConfig config;
     std::string error;
     if (!parseSolverConfig(spec, config, &error)) {
         ADD_FAILURE() << "spec '" << spec << "': " << error;
         return nullptr;
+    }
+    if (tune) {
+        MultigridSettings& s = config.get<MultigridSettings>();
+        MultigridTuning t = settledTuning(s);
+        tune(t);
+        s.tuning = t;
     }
     auto solver = makeSolver(config, &error);
     if (!solver) ADD_FAILURE() << "spec '" << spec << "': " << error;
@@ -364,11 +372,11 @@ std::map<std::string, std::string> readGoldenHashes(const std::string& path) {
 // The fixed scenario: a 17 x 17 hanging flag whose pole moves along a polynomial path (no libm
 // calls, so nothing here depends on the C library's rounding), explicit air on a side wind,
 // light drag; 60 steps of 1/240 s.
-State runGoldenScenario(const std::string& spec) {
+State runGoldenScenario(const std::string& spec, const std::function<void(MultigridTuning&)>& tune) {
     HangingFlagDesc d;
     d.nx = d.ny = 17;
     HangingFlag flag = makeHangingFlag(d);
-    auto solver = solverFor(spec);
+    auto solver = solverFor(spec, tune);
     if (!solver) return flag.state;
     Environment env;
     env.drag = 0.05;
@@ -397,11 +405,14 @@ State runGoldenScenario(const std::string& spec) {
 
 // Runs `base` with `threads` threads and compares the final state's hash with the golden value
 // recorded for `base` (the same for every thread count).
-void expectGoldenHash(const std::string& base, int threads) {
-    const std::string spec = base + (base.find(':') == std::string::npos ? ":" : ",") +
+// `base`: the spec, and the label of the hash; with a tuning, the label is the spec, a slash and
+// a name for the tuning.
+void expectGoldenHash(const std::string& base, int threads, const std::function<void(MultigridTuning&)>& tune = nullptr) {
+    const std::string specOnly = base.substr(0, base.find('/'));
+    const std::string spec = specOnly + (specOnly.find(':') == std::string::npos ? ":" : ",") +
                              "threads=" + std::to_string(threads);
     const std::string path = std::string(FLAGSIM_TEST_DATA_DIR) + "/golden_hashes.txt";
-    const std::string computed = hex(stateHash(runGoldenScenario(spec)));
+    const std::string computed = hex(stateHash(runGoldenScenario(spec, tune)));
     const auto golden = readGoldenHashes(path);
     const auto it = golden.find(base);
     ASSERT_TRUE(it != golden.end()) << "no golden hash for '" << base << "' in " << path
@@ -983,11 +994,17 @@ TEST(GoldenHash, KangChoFloatThreads1) { expectGoldenHash("kangcho:precision=flo
 TEST(GoldenHash, KangChoFloatThreads2) { expectGoldenHash("kangcho:precision=float", 2); }
 TEST(GoldenHash, MultigridThreads1) { expectGoldenHash("multigrid", 1); }
 TEST(GoldenHash, MultigridThreads2) { expectGoldenHash("multigrid", 2); }
-TEST(GoldenHash, MultigridVCycleThreads1) { expectGoldenHash("multigrid:kcycle=0,tolerance=0.001", 1); }
-TEST(GoldenHash, MultigridColdStartThreads1) { expectGoldenHash("multigrid:kcycle=0,tolerance=0.001,start=zero", 1); }
-TEST(GoldenHash, MultigridBendKeptThreads1) {
-    expectGoldenHash("multigrid:kcycle=0,tolerance=0.001,bend=keep,start=zero", 1);
+TEST(GoldenHash, MultigridVCycleThreads1) {
+    expectGoldenHash("multigrid:tolerance=0.001/v-cycles", 1, [](MultigridTuning& t) { t.kcycleLevels = 0; });
 }
+TEST(GoldenHash, MultigridColdStartThreads1) {
+    expectGoldenHash("multigrid:tolerance=0.001/v-cycles-from-zero", 1, [](MultigridTuning& t) {
+        t.kcycleLevels = 0;
+        t.startHistory = 0;
+    });
+}
+TEST(GoldenHash, MultigridMixedThreads1) { expectGoldenHash("multigrid:precision=mixed", 1); }
+TEST(GoldenHash, MultigridMixedThreads2) { expectGoldenHash("multigrid:precision=mixed", 2); }
 
 TEST(PhysicsCollision, AParticleInTwoCollidersCountsOnceAndACapsuleMayBeGivenReversed) {
     // The count is of particles (collision.h), not of particle-collider hits: before, a particle

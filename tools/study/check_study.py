@@ -16,7 +16,7 @@ import sys
 COLUMNS = ["row", "scene", "size", "stiffness", "h", "family", "solver", "ms_per_step", "timing", "solve_error", "traj_error_be",
            "traj_error_fine", "max_stretch", "p99_stretch", "energy_growth", "stable", "fail_step"]
 FAMILIES = {"kangcho", "kangcho_no_eq17", "exact", "desbrun", "cg", "chebyshev", "explicit", "bullet", "multigrid",
-            "multigrid_stationary", "multigrid_rediscretized"}
+            "multigrid_stationary"}
 SCENES = {"hanging_flag", "vehicle_path"}
 
 

@@ -112,16 +112,26 @@ struct Method {
     std::string family, spec;
     bool bullet = false;
     int bulletIterations = 1;
+    void (*tune)(cloth::MultigridTuning&) = nullptr;  // multigrid: its settled tuning changed
+    std::string tuning = {};  // the tuning's name, after the spec in the row's label: "multigrid/stationary"
 };
+
+void stationaryCycles(cloth::MultigridTuning& t) { t.krylov = false; }
 
 // A solver from a spec the study itself wrote: a spec that does not parse is a bug in the study,
 // never a silent run of the default solver under the wrong label.
-cloth::SolverConfig configOf(const std::string& spec) {
+cloth::SolverConfig configOf(const std::string& spec, void (*tune)(cloth::MultigridTuning&) = nullptr) {
     cloth::SolverConfig c;
     std::string error;
     if (!cloth::parseSolverConfig(spec, c, &error)) {
         std::fprintf(stderr, "cloth_study: solver spec '%s': %s\n", spec.c_str(), error.c_str());
         std::exit(2);
+    }
+    if (tune) {
+        auto& m = c.get<cloth::MultigridSettings>();
+        cloth::MultigridTuning t = cloth::settledTuning(m);
+        tune(t);
+        m.tuning = t;
     }
     return c;
 }
@@ -136,7 +146,7 @@ struct Runner {
     Runner(const cloth::Model& m, const Method& method, const State& s, const std::vector<cloth::Pin>& pins)
         : model(m), state(s) {
         if (method.bullet) bullet = std::make_unique<peer::BulletCloth>(m, s, pins, method.bulletIterations);
-        else solver = cloth::makeSolver(configOf(method.spec));
+        else solver = cloth::makeSolver(configOf(method.spec, method.tune));
     }
     void step(double h, const std::vector<cloth::Pin>& pins) {
         if (bullet) {  // Bullet pins are fixed nodes: move them to their targets by hand
@@ -191,7 +201,8 @@ Row runOne(const Scene& scene, int n, double k, double h, const Method& method, 
     const cloth::HangingFlag flag = studyFlag(n, k);
     const cloth::HangingFlagDesc d;  // studyFlag keeps its width and height
     const cloth::Model& m = flag.model;
-    Row r{scene.name, method.family, method.bullet ? "bullet:iterations=" + std::to_string(method.bulletIterations) : method.spec, n, k, h};
+    Row r{scene.name, method.family, method.bullet ? "bullet:iterations=" + std::to_string(method.bulletIterations)
+                                        : method.spec + (method.tuning.empty() ? "" : "/" + method.tuning), n, k, h};
     const int steps = int(std::lround(duration / h));
     const State start = startState(m, scene);
     Runner run(m, method, start, pinsAt(m, scene, 0));
@@ -633,8 +644,7 @@ int main(int argc, char** argv) {
                                    {"chebyshev", "chebyshev:iterations=3"}, {"chebyshev", "chebyshev:iterations=8"},
                                    {"multigrid", "multigrid"}, {"multigrid", "multigrid:cycles=1"},
                                    {"multigrid", "multigrid:cycles=2"},
-                                   {"multigrid_stationary", "multigrid:krylov=none"},
-                                   {"multigrid_rediscretized", "multigrid:coarse=rediscretize"},
+                                   {"multigrid_stationary", "multigrid", false, 1, stationaryCycles, "stationary"},
                                    {"explicit", "explicit:substeps=1"}, {"explicit", "explicit:substeps=10"},
                                    {"explicit", "explicit:substeps=100"}};
     methods.push_back({"bullet", "", true, 1});

@@ -18,6 +18,7 @@
 // it was before the step and the status says why.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -48,79 +49,37 @@ struct ExactSettings {
     int iterations = 0;
 };
 
-struct MultigridSettings {
-    int cycles = 0;            // fixed number of cycles; 0 = until the relative residual < tolerance
-    double tolerance = 1.5e-3;
-    int maxCycles = 16;        // cap of the adaptive mode
-    // Adaptive: also stop only when no particle's Jacobi correction |W_ii^-1 r_i| exceeds this
-    // fraction of the largest |dv_i| (0 = off). The relative residual is a mean over the cloth: a
-    // wave front whose error sits on a few hundred particles passes it, and the error it leaves
-    // there seeds a stretch spike a few steps later (docs/multigrid.md, "The stopping test").
-    double localTolerance = 1e-2;
-    int preSweeps = 1, postSweeps = 1;  // smoothing sweeps around each coarse correction
-    double damping = 0.7;      // smoother: x += damping W_ii^-1 r
-    enum class Coarsening { Auto, Geometric, Aggregation };
-    Coarsening coarsening = Coarsening::Auto;  // Auto: geometric on grids, aggregation otherwise
-    // Coarse operators: Galerkin P^T W P, or (grids only) the same cloth re-discretized on the
-    // coarse grid: the same spring kernels at positions sampled from the finer level.
-    enum class CoarseOperator { Galerkin, Rediscretized };
-    CoarseOperator coarseOperator = CoarseOperator::Galerkin;
-    // Galerkin on a grid: the coarse levels see each bend spring (i, i + 2) as two springs of
-    // twice its stiffness block over its halves (i, i + 1) and (i + 1, i + 2), the same energy for
-    // a displacement linear along the spring. The fine level keeps the true W (smoother, residual,
-    // CG); only the coarse operators change, from a 25-point stencil to a 9-point one.
-    bool collapseBend = true;
-    // Coarse operators (and the coarsest factorization) rebuilt every this many solves, and
-    // reused in between while the pinned particles, h and the Jacobian rule stay the same. The
-    // finest level (smoother, residuals, CG) is always the current W, so an adaptive solve still
-    // reaches its tolerance on the current system; only the coarse correction lags.
-    int coarseEvery = 1;
-    // Cycles as the preconditioner of conjugate gradients (one V-cycle per CG iteration) rather
-    // than as a stationary iteration. The V-cycle is symmetric (the same damped Jacobi before and
-    // after), so CG applies. Auto: CG, except for one fixed cycle, which CG would only scale by
-    // its step length, at one product with W more (on the vehicle path that scaling moved the
-    // solve error by -4% to +7%, and the cycle alone was 7-14% cheaper: docs/multigrid.md,
-    // session 18). Float cycles always run under CG.
-    enum class Krylov { Auto, CG, None };
-    Krylov krylov = Krylov::Auto;
-    bool conjugateGradients() const {
-        return krylov == Krylov::CG || (krylov == Krylov::Auto && (cycles != 1 || floatCycles));
-    }
-    // Levels 1..kcycleLevels (not the coarsest) are solved, wherever a finer level calls them, by
-    // two iterations of flexible CG each preconditioned by one cycle from that level (Notay and
-    // Vassilevski's K-cycle), instead of one cycle. 0: a V-cycle. The preconditioner is then
-    // nonlinear, and the outer CG uses the flexible (Polak-Ribiere) beta. -1 (auto): 1 when
-    // adaptive (fewer, more accurate iterations for the same cost), 0 for a fixed count (whose
-    // cost each K-cycle raises by 5-15%, and one K-cycle alone was not reliable: docs/multigrid.md).
-    int kcycleLevels = -1;
-    int kLevels() const { return kcycleLevels >= 0 ? kcycleLevels : cycles == 0 ? 1 : 0; }
-    // Where each solve starts: from the last steps' dv (on the rows free now), or from zero.
-    // Previous: the combination of the last startHistory solves' dv that minimizes the energy
-    // norm of the error (one product with W per vector; zero is in their span, so after a jump
-    // the coefficients fall to nearly nothing). Auto: previous when adaptive (the cycles to the
-    // tolerance drop), zero for a fixed count (whose cost it would raise).
-    enum class Start { Auto, Previous, Zero };
-    Start start = Start::Auto;
-    // Two vectors span the linear extrapolation 2 dv_{n-1} - dv_{n-2}: on the swung pole at
-    // 129x129 the cycles per step fell from 5.47 (one vector) to 4.22, and three saved too
-    // little for their extra product (docs/multigrid.md, session 18).
-    int startHistory = 2;
-    int threads = 1;
-    bool singlePrecision = false;
-    // Mixed precision (with singlePrecision false and conjugate gradients): the cycles, the
-    // preconditioner, run on the same system rounded to float, while CG, its products with W and
-    // the residual it tests stay double. A float cycle moves half the bytes of a double one; CG
-    // corrects the preconditioner's rounding, so the solve still reaches double tolerances. Not
-    // the default: with the local stopping test it holds the vehicle path as double cycles do,
-    // but in the 10 g stop at 65x65 its peak stretch was higher in 4 of 5 runs (0.27-0.47 against
-    // 0.16-0.36; docs/multigrid.md, session 17).
-    bool floatCycles = false;
-    int coarsestParticles = 16;  // coarsen until a level has at most this many (not a key)
-    // The Galerkin product by stencil (nested grids, multigrid.h) from this many coarse points per
-    // row; shorter rows use the plan, which was faster there with the bend springs kept (at 33x33:
-    // 1.4x) and as fast with them collapsed. Not a key.
-    int stencilGalerkinMinRow = 33;
+// The multigrid's tuning: settled by the study (docs/multigrid.md, each choice with its CSV), so
+// not a key. The benchmark, the study and the tests may set it; unset, a solver takes
+// settledTuning() of its settings.
+struct MultigridTuning {
+    bool krylov = true;             // the cycles precondition CG; false: the cycles alone
+    int kcycleLevels = 1;           // coarse levels 1..N are K-cycles; 0: V-cycles
+    int startHistory = 2;           // start from the best combination of the last N solves' dv; 0: from zero
+    double localTolerance = 1e-2;   // adaptive: also no particle's |W_ii^-1 r_i| above this times max |dv_i|
+    int preSweeps = 1, postSweeps = 1;
+    double damping = 0.7;           // smoother: x += damping W_ii^-1 r
+    bool aggregation = false;       // smoothed aggregation on grids too (meshes always)
+    int coarseEvery = 1;            // coarse operators rebuilt every this many solves
+    int coarsestParticles = 16;     // coarsen until a level has at most this many
+    int stencilGalerkinMinRow = 33; // the Galerkin product by stencil from this many coarse points per row
 };
+
+struct MultigridSettings {
+    int cycles = 0;             // fixed number of cycles; 0 = until the tolerance, within maxCycles
+    double tolerance = 1.5e-3;  // adaptive: relative residual to reach
+    int maxCycles = 16;
+    int threads = 1;
+    // double; mixed: float cycles preconditioning a double CG; float: all in float
+    enum class Precision { Double, Mixed, Float };
+    Precision precision = Precision::Double;
+    std::optional<MultigridTuning> tuning;  // unset: settledTuning(*this)
+};
+
+// The tuning the study settled for these settings: CG, except around one fixed cycle in double
+// (which CG would only scale); when adaptive a K-cycle on level 1 and a start from the last two
+// solves, for a fixed count V-cycles from zero.
+MultigridTuning settledTuning(const MultigridSettings& settings);
 
 struct ChebyshevSettings {
     int iterations = 1;

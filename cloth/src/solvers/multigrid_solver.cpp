@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <variant>
 
-#include "multigrid.h"
+#include "multigrid/multigrid.h"
 #include "solver_table.h"
 #include "solvers/step_common.h"
 
@@ -28,14 +28,16 @@ private:
         MultigridSettings m;
         m.tolerance = settings<ExactSettings>().tolerance;
         m.maxCycles = std::min(settings<ExactSettings>().maxIterations, 1000);
-        m.localTolerance = 0;  // the reference stops on its relative residual alone
+        MultigridTuning tuning = settledTuning(m);
+        tuning.localTolerance = 0;  // the reference stops on its relative residual alone
+        m.tuning = tuning;
         return m;
     }
     bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
                    StepResult& result) override {
         if (!float_ && !double_) {
             const MultigridSettings s = multigridSettings();
-            if (s.singlePrecision) float_ = std::make_unique<Multigrid<float>>(s, pool_);
+            if (s.precision == MultigridSettings::Precision::Float) float_ = std::make_unique<Multigrid<float>>(s, pool_);
             else double_ = std::make_unique<Multigrid<double>>(s, pool_);
         }
         MultigridStats stats;
