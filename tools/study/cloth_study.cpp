@@ -17,7 +17,10 @@
 //   stable, fail_step
 // Part 2 (extreme.csv): the demo's flag (engine::Flag with assets/scenes/flag_vehicle.json, or the
 // scene given by --extreme-scene) on a
-// carrier driven through extreme motions, per solver configuration: stable or not.
+// carrier driven through extreme motions (tools/study/extreme_cases.h), per solver configuration:
+// stable or not. extreme_cases.csv: per case, the largest speed and acceleration its carrier gives
+// the flag's pinned column; the study stops before any work when a case moves no pin and has no
+// wind (it would test nothing).
 
 #include <algorithm>
 #include <chrono>
@@ -42,11 +45,16 @@
 #include "engine/physics/vehicle_world.h"
 #include "engine/scene.h"
 #include "peer/bullet_cloth.h"
+#include "extreme_cases.h"
 
 using cloth::Points;
 using cloth::State;
 using cloth::Vec3;
 using Clock = std::chrono::steady_clock;
+using study::Extreme;
+using study::extremeMount;
+using study::extremes;
+using study::extremeScene;
 
 namespace {
 
@@ -283,83 +291,6 @@ std::vector<State> referenceRun(const Scene& scene, int n, double k, double h, d
     return states;
 }
 
-// ---------------------------------------------------------------------------------------------
-// Extreme cases for the demo's flag.
-
-struct Extreme {
-    std::string name;
-    double duration;
-    std::function<engine::RigidFrame(double)> carrier;  // pose and velocity at time t
-    double massScale = 1, wind = 0;
-    double jumpAt = -1;  // a discontinuity of the pole (teleport): peak_stretch leaves out 0.25 s after it
-};
-
-std::vector<Extreme> extremes() {
-    using engine::RigidFrame;
-    std::vector<Extreme> e;
-    e.push_back({"speed_50mps", 4, [](double t) {  // 0 -> 50 m/s in 2 s, then cruise
-                     RigidFrame c;
-                     const double a = 25, v = std::min(t, 2.0) * a;
-                     const double x = t < 2 ? 0.5 * a * t * t : 50 + 50 * (t - 2);
-                     c.position = Vec3(0, 0, x);
-                     c.linearVelocity = Vec3(0, 0, v);
-                     return c;
-                 }});
-    e.push_back({"stop_10g", 3, [](double t) {  // cruise at 30 m/s, stop at 10 g at t = 1.5 s
-                     RigidFrame c;
-                     const double a = 98.1, t0 = 1.5, stopT = 30 / a;
-                     double v = 30, x = 30 * t;
-                     if (t > t0) {
-                         const double s = std::min(t - t0, stopT);
-                         v = 30 - a * s;
-                         x = 30 * t0 + 30 * s - 0.5 * a * s * s;
-                     }
-                     c.position = Vec3(0, 0, x);
-                     c.linearVelocity = Vec3(0, 0, v);
-                     return c;
-                 }});
-    e.push_back({"spin_5radps", 3, [](double t) {  // spin about the vertical up to 5 rad/s
-                     RigidFrame c;
-                     const double w = 5 * std::min(t / 0.5, 1.0);
-                     const double angle = t < 0.5 ? 5 * t * t : 1.25 + 5 * (t - 0.5);
-                     c.rotation = Eigen::AngleAxisd(angle, Vec3::UnitY());
-                     c.angularVelocity = Vec3(0, w, 0);
-                     return c;
-                 }});
-    e.push_back({"teleport_1m", 2, [](double t) {  // the pole jumps 1 m sideways in one step
-                     RigidFrame c;
-                     if (t >= 0.5) c.position = Vec3(1, 0, 0);
-                     return c;
-                 }, 1, 0, 0.5});
-    e.push_back({"light_particles", 3, [](double t) {  // 1/100 of the mass, driven at 20 m/s
-                     RigidFrame c;
-                     c.position = Vec3(0, 0, 20 * t);
-                     c.linearVelocity = Vec3(0, 0, 20);
-                     return c;
-                 }, 0.01});
-    e.push_back({"gale_40mps", 3, [](double) { return RigidFrame{}; }, 1, 40});
-    return e;
-}
-
-// The demo's flag in case x at another resolution: same size, mass and stiffness, same aspect;
-// the case's mass scale and wind.
-engine::SceneConfig extremeScene(const engine::SceneConfig& demo, const Extreme& x, int size) {
-    engine::SceneConfig s = demo;
-    s.flag.ny = int(std::lround(1 + (size - 1) * double(demo.flag.ny - 1) / (demo.flag.nx - 1)));
-    s.flag.nx = size;
-    s.flag.mass *= x.massScale;
-    s.air.wind = Vec3(x.wind, 0, 0);
-    return s;
-}
-
-// The pole of the extreme cases: at the carrier's origin, as tall as the demo's.
-engine::PoleMount extremeMount(const engine::SceneConfig& demo) {
-    engine::PoleMount mount;
-    mount.base = Vec3(0, 0, 0);
-    mount.height = demo.vehicle.poleHeight;
-    return mount;
-}
-
 // What every Newton harness input holds (tools/study/newton_study.py reads it): the configuration's
 // name, size, stiffness and step, gravity, the cloth (start positions, masses, springs, triangles)
 // and its pinned particles. Pin targets per step are appended with pinTargets().
@@ -475,6 +406,7 @@ vehicle path, a scan over stiffness and time step, and the demo's flag in six ex
   --no-extremes        skip the extreme cases (extreme.csv)
   --extremes-only      only the extreme cases
   --configs LIST       comma-separated subset of the extreme-case configurations (by name)
+  --cases LIST         comma-separated subset of the extreme cases (by name, e.g. spin_5radps)
   --extreme-sizes LIST flag sides for the extreme cases (default 33,65, --quick 33; the flag keeps
                        its aspect)
   --extreme-scene S    whose flag the extreme cases run (a scene name or a .json path; default
@@ -523,12 +455,31 @@ std::string readSides(const std::string& option, const std::string& text, long l
     return {};
 }
 
+// The guard on every extreme case (tools/study/extreme_cases.h): its carrier moves the flag's
+// pins, or it has wind. Writes each case's largest pin speed and acceleration to `csv` (unless
+// empty); false, with the reason on stderr, when a case drives nothing.
+bool extremeCasesDriveTheFlag(const engine::SceneConfig& demo, const std::string& csv) {
+    const std::vector<study::CaseMotion> motions = study::caseMotions(demo, extremes());
+    if (!csv.empty()) {
+        std::ofstream f(csv);
+        f << "case,wind,pin_speed_max,pin_accel_max\n";
+        char line[200];
+        for (const study::CaseMotion& c : motions) {
+            std::snprintf(line, sizeof line, "%s,%g,%.4g,%.4g\n", c.name.c_str(), c.wind, c.pins.speedMax, c.pins.accelMax);
+            f << line;
+        }
+    }
+    const std::string idle = study::idleCases(motions);
+    if (!idle.empty()) std::fprintf(stderr, "cloth_study: %s", idle.c_str());
+    return idle.empty();
+}
+
 int main(int argc, char** argv) {
     bool quick = false, extremesOnly = false, scan = true, doExtremes = true, parallel = false;
     int shard = 1, shards = 1;
     std::vector<int> extremeSizes;  // default: 33 and 65 (--quick: 33)
     std::string out = "out/study", exportDir, extremeScenePath = "flag_vehicle";
-    std::vector<std::string> sceneFilter, solverSpecs, variantFilter;
+    std::vector<std::string> sceneFilter, solverSpecs, variantFilter, caseFilter;
     std::vector<int> sizeOverride;
     auto usageError = [](const std::string& why) {
         std::fprintf(stderr, "cloth_study: %s\n%s", why.c_str(), kUsage);
@@ -548,6 +499,7 @@ int main(int argc, char** argv) {
         else if (a == "--parallel") parallel = true;
         else if (a == "--export-newton" && hasValue) exportDir = argv[++i];
         else if (a == "--configs" && hasValue) variantFilter = split(argv[++i], ',');
+        else if (a == "--cases" && hasValue) caseFilter = split(argv[++i], ',');
         else if (a == "--extreme-scene" && hasValue) extremeScenePath = argv[++i];
         else if (a == "--shard" && hasValue) {
             const std::string v = argv[++i];
@@ -625,8 +577,19 @@ int main(int argc, char** argv) {
         }
         variants = chosen;
     }
+    std::vector<Extreme> cases = extremes();
+    if (!caseFilter.empty()) {
+        std::vector<Extreme> chosen;
+        for (const std::string& name : caseFilter) {
+            const auto it = std::find_if(cases.begin(), cases.end(), [&](const Extreme& x) { return x.name == name; });
+            if (it == cases.end()) return usageError("--cases: unknown extreme case '" + name + "'");
+            chosen.push_back(*it);
+        }
+        cases = chosen;
+    }
     if (extremeSizes.empty()) extremeSizes = quick ? std::vector<int>{33} : std::vector<int>{33, 65};
     std::filesystem::create_directories(out);
+    if (doExtremes && !extremeCasesDriveTheFlag(demo, exportDir.empty() ? out + "/extreme_cases.csv" : "")) return 1;
     const auto t0 = Clock::now();
     const double duration = quick ? 0.5 : 1.5;
     const PolePath path = drivePath(12.0);
@@ -681,7 +644,7 @@ int main(int argc, char** argv) {
         for (const Config& c : configs)
             if (!extremesOnly && c.k == 1e4 && c.h == 1.0 / 240) exportForNewton(exportDir, *c.scene, c.n, c.k, c.h, duration);
         if (doExtremes)  // --quick: the teleport only (the shortest case), to keep CI's run short
-            for (const Extreme& x : extremes())
+            for (const Extreme& x : cases)
                 if (!quick || x.name == "teleport_1m")
                     for (const int size : extremeSizes) exportExtremeForNewton(exportDir, demo, x, size);
         std::fprintf(stderr, "flag and pole motion written to %s\n", exportDir.c_str());
@@ -746,7 +709,7 @@ int main(int argc, char** argv) {
     ext << "row,case,size,config,stable,failures,ms_per_tick,timing,max_stretch,peak_stretch,p99_stretch,"
            "late_max_stretch,max_speed\n";
     row = -1;
-    for (const Extreme& x : extremes())
+    for (const Extreme& x : cases)
         for (const int size : extremeSizes)
             for (const Variant& v : variants) {
                 ++row;

@@ -19,7 +19,7 @@ def rows(path):
 
 def main():
     a, b = sys.argv[1], sys.argv[2]
-    for name in ["error_vs_runtime.csv", "extreme.csv"]:
+    for name in ["error_vs_runtime.csv", "extreme.csv", "extreme_cases.csv"]:
         pa, pb = os.path.join(a, name), os.path.join(b, name)
         if not os.path.isfile(pa) and not os.path.isfile(pb):
             continue
@@ -32,7 +32,8 @@ def main():
         for x, y in zip(ra, rb):
             for col in ha:
                 if col not in TIMING and x[col] != y[col]:
-                    sys.exit(f"{name} row {x['row']}: {col} = {x[col]} in {a} but {y[col]} in {b}")
+                    where = x["row"] if "row" in x else x["case"]
+                    sys.exit(f"{name} row {where}: {col} = {x[col]} in {a} but {y[col]} in {b}")
         print(f"{name}: {len(ra)} rows, every deterministic column identical")
 
 

@@ -5,7 +5,8 @@
 
 Every row carries its serial number (column `row`); the merge sorts by it and refuses a set of
 shards that misses a row or holds one twice. Writes OUT/error_vs_runtime.csv and OUT/extreme.csv
-(each only if the shards have it), through a temporary file and a rename.
+(each only if the shards have it), through a temporary file and a rename. extreme_cases.csv (the
+extreme cases' pin motion) is the same in every shard: copied once, refused if the shards differ.
 """
 import csv
 import json
@@ -13,6 +14,7 @@ import os
 import sys
 
 FILES = ["error_vs_runtime.csv", "extreme.csv"]
+WHOLE = ["extreme_cases.csv"]  # every shard writes all of it
 
 
 def shard_info(shard_dirs):
@@ -63,6 +65,23 @@ def merge(name, shard_dirs, out, expected):
     return len(rows)
 
 
+def copy_whole(name, shard_dirs, out):
+    texts = []
+    for d in shard_dirs:
+        if os.path.isfile(os.path.join(d, name)):
+            with open(os.path.join(d, name)) as f:
+                texts.append(f.read())
+    if not texts:
+        return False
+    if len(texts) != len(shard_dirs) or any(t != texts[0] for t in texts):
+        sys.exit(f"{name}: the shards' copies differ or some shards lack it")
+    tmp = os.path.join(out, name + ".tmp")
+    with open(tmp, "w") as f:
+        f.write(texts[0])
+    os.replace(tmp, os.path.join(out, name))
+    return True
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
@@ -73,6 +92,9 @@ def main():
         n = merge(name, shard_dirs, out, expected[name])
         if n is not None:
             print(f"{out}/{name}: {n} rows from {len(shard_dirs)} shards")
+    for name in WHOLE:
+        if copy_whole(name, shard_dirs, out):
+            print(f"{out}/{name}: the same in all {len(shard_dirs)} shards")
 
 
 if __name__ == "__main__":
