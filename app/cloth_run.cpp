@@ -18,6 +18,7 @@ namespace {
 struct Options {
     std::string scene = "hanging_flag";
     std::string solver = "kangcho";
+    std::string constraints;
     int steps = 600;
     int nx = 33, ny = 33;
     double stiffness = 1e4;
@@ -34,6 +35,8 @@ int main(int argc, char** argv) {
     app.add_option("--scene", o.scene, "scene name")->check(CLI::IsMember({"hanging_flag"}));
     app.add_option("--solver", o.solver,
                    "solver spec name[:key=value,...], e.g. multigrid:cycles=2 (every solver and key below)");
+    app.add_option("--constraints", o.constraints,
+                   "the cloth's constraints key=value,..., e.g. tether=0.02,stretch_limit=0.1 (keys below)");
     app.add_option("--steps", o.steps, "steps per repeat")->check(CLI::Range(1, 10000000));
     app.add_option("--nx", o.nx, "particles across")->check(CLI::Range(2, 1024));
     app.add_option("--ny", o.ny, "particles down")->check(CLI::Range(2, 1024));
@@ -59,6 +62,11 @@ int main(int argc, char** argv) {
         std::cerr << "cloth_run: --solver " << o.solver << ": " << error << "\n";
         return 2;
     }
+    cloth::Constraints constraints;
+    if (!cloth::parseConstraints(o.constraints, constraints, &error)) {
+        std::cerr << "cloth_run: --constraints " << o.constraints << ": " << error << "\n";
+        return 2;
+    }
     cloth::HangingFlagDesc desc;
     desc.nx = o.nx;
     desc.ny = o.ny;
@@ -73,6 +81,7 @@ int main(int argc, char** argv) {
     for (int rep = 0; rep < o.repeats; ++rep) {
         cloth::HangingFlag flag = cloth::makeHangingFlag(desc);
         auto solver = cloth::makeSolver(config);
+        solver->setConstraints(constraints);
         cloth::Environment env;
         cloth::StepInput input;
         input.h = o.dt;
@@ -105,6 +114,7 @@ int main(int argc, char** argv) {
     std::printf("scene            %s %dx%d, k=%g N/m, h=%g s, %d steps x %d repeats\n",
                 o.scene.c_str(), o.nx, o.ny, o.stiffness, o.dt, o.steps, o.repeats);
     std::printf("solver           %s\n", config.describe().c_str());
+    if (constraints.any()) std::printf("constraints      %s\n", constraints.describe().c_str());
     if (!details.empty()) std::printf("                 %s\n", details.c_str());
     std::printf("iterations       %.2f per step (mean)\n", double(iterations) / o.steps);
     std::printf("steps/s          %.1f (median; %.2f us/step)\n", median, 1e6 / median);

@@ -15,7 +15,8 @@
 int main(int argc, char** argv) {
     engine::RunOptions o;
     std::string scene = "flag_vehicle";
-    std::string solver;
+    std::string solver, constraints;
+    bool setConstraints = false;
     CLI::App app{"flagsim: a cloth flag on a vehicle, stepped by Kang & Cho's solver."};
     // tools/run passes defaults first; what the user adds after them wins.
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -36,6 +37,9 @@ int main(int argc, char** argv) {
     app.add_option("--record-input", o.recordInput,
                    "write the actions actually applied as a script that replays to identical frames");
     app.add_option("--solver", solver, "override the flag's solver, e.g. multigrid:cycles=2 (solvers and keys below)");
+    app.add_option("--constraints", constraints,
+                   "override the flag's constraints, e.g. tether=0.02,stretch_limit=0.1 (\"\" for none; keys below)")
+        ->each([&](const std::string&) { setConstraints = true; });
     app.add_option("--width", o.width, "override the render width")->check(CLI::Range(16, 7680));
     app.add_option("--height", o.height, "override the render height")->check(CLI::Range(16, 4320));
     app.add_flag("--no-progress", o.noProgress, "no progress bar");
@@ -51,6 +55,11 @@ int main(int argc, char** argv) {
             std::string error;
             if (!cloth::parseSolverConfig(solver, config.flag.solver, &error))
                 throw engine::ConfigError("--solver " + solver + ": " + error);
+        }
+        if (setConstraints) {
+            std::string error;
+            if (!cloth::parseConstraints(constraints, config.flag.constraints, &error))
+                throw engine::ConfigError("--constraints " + constraints + ": " + error);
         }
         return engine::runScene(config, o);
     } catch (const engine::ConfigError& e) {

@@ -1,5 +1,6 @@
 #include "solver_table.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -123,13 +124,6 @@ std::vector<SolverKey> common(bool implicit) {
         out.push_back(shown(choice<SolverConfig, bool>("compression", &SolverConfig::compressionRule,
                                                        {{"on", true}, {"off", false}},
                                                        "eq. 17: under compression the Jacobian uses l0 := L")));
-    out.push_back(real<SolverConfig>("strain_limit", &SolverConfig::strainLimit, 0, 10, false, true,
-                                     "anti-stretch pass after the step: max stretch, 0.1 = 10% (0 = off)"));
-    out.push_back(integer<SolverConfig>("strain_passes", &SolverConfig::strainLimitPasses, 1, 1000,
-                                        "Gauss-Seidel passes of the anti-stretch pass"));
-    out.push_back(real<SolverConfig>("tether", &SolverConfig::tether, 0, 10, false, true,
-                                     "long-range attachments after the step: no particle farther from its nearest pin "
-                                     "than (1 + tether) times at rest (0 = off)"));
     return out;
 }
 
@@ -141,6 +135,20 @@ std::vector<SolverKey> operator+(std::vector<SolverKey> a, std::vector<SolverKey
 std::vector<SolverKey> with(std::vector<SolverKey> own, bool implicit) { return std::move(own) + common(implicit); }
 
 }  // namespace keys
+
+const std::vector<ConstraintKey>& constraintKeys() {
+    using namespace keys;
+    using C = Constraints;
+    static const std::vector<ConstraintKey> rows = {
+        real<C>("tether", &C::tether, 0, 10, false, true,
+                "tethers (long-range attachments): no particle farther from its nearest pin than (1 + tether) "
+                "times at rest (0 = off)"),
+        real<C>("stretch_limit", &C::stretchLimit, 0, 10, false, true,
+                "the stretch limit: no spring longer than (1 + stretch_limit) times its rest length (0 = off)"),
+        integer<C>("stretch_passes", &C::stretchPasses, 1, 1000, "Gauss-Seidel passes of the stretch limit"),
+    };
+    return rows;
+}
 
 namespace {
 
@@ -169,9 +177,9 @@ bool fail(std::string* error, const std::string& message) {
 }
 
 // Reads `text` as the key's value (a choice's index); false if it is not one.
-bool readValue(const SolverKey& key, std::string_view text, double& value) {
+bool readValue(const KeyRow& key, std::string_view text, double& value) {
     switch (key.type) {
-        case SolverKey::Type::Choice:
+        case KeyRow::Type::Choice:
             for (std::size_t i = 0; i < key.choices.size(); ++i)
                 if (text == key.choices[i]) return value = double(i), true;
             // Switches also take true/false and 1/0.
@@ -180,20 +188,20 @@ bool readValue(const SolverKey& key, std::string_view text, double& value) {
                 if (text == "false" || text == "0") return value = 1, true;
             }
             return false;
-        case SolverKey::Type::Integer: {
+        case KeyRow::Type::Integer: {
             int v = 0;
             auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
             if (ec != std::errc() || p != text.data() + text.size()) return false;
             value = v;
             return true;
         }
-        case SolverKey::Type::Real: return parseNumber(text, value);
+        case KeyRow::Type::Real: return parseNumber(text, value);
     }
     return false;
 }
 
-bool inRange(const SolverKey& key, double v) {
-    if (key.type == SolverKey::Type::Choice) return true;
+bool inRange(const KeyRow& key, double v) {
+    if (key.type == KeyRow::Type::Choice) return true;
     return (key.minOpen ? v > key.min : v >= key.min) && (key.maxOpen ? v < key.max : v <= key.max);
 }
 
@@ -211,14 +219,18 @@ std::string knownNames() {
 
 }  // namespace
 
-std::string SolverKey::text(const SolverConfig& c) const {
+template <class Target>
+std::string Key<Target>::text(const Target& c) const {
     const double v = get(c);
     if (type == Type::Choice) return choices[std::size_t(v)];
     if (type == Type::Integer) return std::to_string(int(v));
     return number(v);
 }
 
-std::string SolverKey::range() const {
+template struct Key<SolverConfig>;
+template struct Key<Constraints>;
+
+std::string KeyRow::range() const {
     if (type == Type::Choice) {
         std::string out;
         for (const std::string& c : choices) out += (out.empty() ? "" : "|") + c;
@@ -252,20 +264,34 @@ bool setSolverParameter(SolverConfig& config, std::string_view key, std::string_
     return true;
 }
 
+namespace {
+
+// set(key, value) for each "key=value" of a comma-separated list; false at the first item that is
+// not key=value (naming it, as a `what`) or that set refuses.
+template <class Set>
+bool forEachItem(std::string_view list, const char* what, std::string* error, Set&& set) {
+    while (!list.empty()) {
+        const auto comma = list.find(',');
+        const std::string_view item = list.substr(0, comma);
+        list = comma == std::string_view::npos ? "" : list.substr(comma + 1);
+        const auto eq = item.find('=');
+        if (eq == std::string_view::npos) return fail(error, std::string(what) + " '" + std::string(item) + "' is not key=value");
+        if (!set(item.substr(0, eq), item.substr(eq + 1))) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
 bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* error) {
     const auto colon = spec.find(':');
     SolverConfig c;
     if (!defaultSolverConfig(spec.substr(0, colon), c, error)) return false;
-    std::string_view rest = colon == std::string_view::npos ? "" : spec.substr(colon + 1);
-    while (!rest.empty()) {
-        const auto comma = rest.find(',');
-        const std::string_view item = rest.substr(0, comma);
-        rest = comma == std::string_view::npos ? "" : rest.substr(comma + 1);
-        const auto eq = item.find('=');
-        if (eq == std::string_view::npos)
-            return fail(error, "solver parameter '" + std::string(item) + "' is not key=value");
-        if (!setSolverParameter(c, item.substr(0, eq), item.substr(eq + 1), error)) return false;
-    }
+    const std::string_view rest = colon == std::string_view::npos ? "" : spec.substr(colon + 1);
+    if (!forEachItem(rest, "solver parameter", error, [&](std::string_view key, std::string_view value) {
+            return setSolverParameter(c, key, value, error);
+        }))
+        return false;
     const std::string problem = validate(c);
     if (!problem.empty()) return fail(error, problem);
     out = std::move(c);
@@ -297,7 +323,56 @@ std::string SolverConfig::describe() const {
     return out;
 }
 
+bool setConstraint(Constraints& c, std::string_view key, std::string_view value, std::string* error) {
+    const auto& rows = constraintKeys();
+    const auto k = std::find_if(rows.begin(), rows.end(), [&](const ConstraintKey& r) { return key == r.name; });
+    if (k == rows.end()) {
+        std::string known;
+        for (const ConstraintKey& r : rows) known += (known.empty() ? "" : ", ") + std::string(r.name);
+        return fail(error, "constraints have no key '" + std::string(key) + "' (known: " + known + ")");
+    }
+    double v = 0;
+    if (!readValue(*k, value, v) || !inRange(*k, v))
+        return fail(error, "constraint " + std::string(key) + " has a bad value '" + std::string(value) +
+                               "' (allowed: " + k->range() + ")");
+    k->set(c, v);
+    return true;
+}
+
+bool parseConstraints(std::string_view spec, Constraints& out, std::string* error) {
+    Constraints c;
+    if (!forEachItem(spec, "constraint", error,
+                     [&](std::string_view key, std::string_view value) { return setConstraint(c, key, value, error); }))
+        return false;
+    out = c;
+    return true;
+}
+
+std::string validate(const Constraints& c) {
+    for (const ConstraintKey& k : constraintKeys())
+        if (!inRange(k, k.get(c))) return std::string("constraint ") + k.name + " = " + k.text(c) + " must be in " + k.range();
+    return {};
+}
+
+std::string Constraints::describe() const {
+    const Constraints defaults;
+    std::string out;
+    for (const ConstraintKey& k : constraintKeys())
+        if (k.get(*this) != k.get(defaults)) out += (out.empty() ? "" : ",") + std::string(k.name) + "=" + k.text(*this);
+    return out;
+}
+
 namespace {
+
+// One key's row of the table: plain text or Markdown (a '|' inside a Markdown cell must be
+// escaped, even in code).
+template <class Target>
+void printRow(std::ostringstream& s, const Key<Target>& k, const Target& defaults, bool markdown) {
+    std::string range;
+    for (const char ch : k.range()) range += markdown && ch == '|' ? std::string("\\|") : std::string(1, ch);
+    if (markdown) s << "| | `" << k.name << "` | `" << range << "` | `" << k.text(defaults) << "` | " << k.doc << " |\n";
+    else s << "    " << k.name << "=" << range << " (default " << k.text(defaults) << ")  " << k.doc << "\n";
+}
 
 // The table as text: plain for --help, or Markdown for the README (a '|' inside a Markdown cell
 // must be escaped, even in code).
@@ -309,13 +384,12 @@ std::string printTable(bool markdown) {
         const SolverConfig d = defaultsOf(kind);
         if (markdown) s << "| **" << kind.name << "** | | | | " << kind.doc << " |\n";
         else s << "\n  " << kind.name << "  " << kind.doc << "\n";
-        for (const SolverKey& k : kind.keys) {
-            std::string range;
-            for (const char ch : k.range()) range += markdown && ch == '|' ? std::string("\\|") : std::string(1, ch);
-            if (markdown) s << "| | `" << k.name << "` | `" << range << "` | `" << k.text(d) << "` | " << k.doc << " |\n";
-            else s << "    " << k.name << "=" << range << " (default " << k.text(d) << ")  " << k.doc << "\n";
-        }
+        for (const SolverKey& k : kind.keys) printRow(s, k, d, markdown);
     }
+    const char* what = "the cloth's corrections after any solver's step (a scene's flag.constraints, --constraints)";
+    if (markdown) s << "| **constraints** | | | | " << what << " |\n";
+    else s << "\nConstraints: key=value,...  " << what << "\n";
+    for (const ConstraintKey& k : constraintKeys()) printRow(s, k, Constraints{}, markdown);
     return s.str();
 }
 

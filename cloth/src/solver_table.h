@@ -17,7 +17,8 @@
 
 namespace cloth {
 
-struct SolverKey {
+// A key's row: name, type, range, one line of doc.
+struct KeyRow {
     enum class Type { Integer, Real, Choice };
     const char* name = "";
     Type type = Type::Integer;
@@ -26,12 +27,25 @@ struct SolverKey {
     std::vector<std::string> choices;  // Choice: the allowed words, in the order of their values
     const char* doc = "";
     bool alwaysShown = false;          // describe() prints it even at its default
-    std::function<double(const SolverConfig&)> get;  // Choice: the index of the word
-    std::function<void(SolverConfig&, double)> set;
 
-    std::string text(const SolverConfig& c) const;  // the value as the parser reads it
-    std::string range() const;                      // "[0, 100000]", "fast|gather|reference"
+    std::string range() const;  // "[0, 100000]", "fast|gather|reference"
 };
+
+// A key of a Target (SolverConfig for a solver's keys, Constraints for the cloth's constraints):
+// its row, and how to read and write its field.
+template <class Target>
+struct Key : KeyRow {
+    std::function<double(const Target&)> get;  // Choice: the index of the word
+    std::function<void(Target&, double)> set;
+
+    std::string text(const Target& t) const;  // the value as the parser reads it
+};
+
+using SolverKey = Key<SolverConfig>;
+using ConstraintKey = Key<Constraints>;
+
+// The constraints' keys (tether, stretch_limit, stretch_passes).
+const std::vector<ConstraintKey>& constraintKeys();
 
 struct SolverKind {
     const char* name;
@@ -57,54 +71,59 @@ void defaultsTo(SolverConfig& c) {
 // kind shares.
 namespace keys {
 
+// The target whose keys hold fields of S: Constraints for itself, else a solver's SolverConfig.
 template <class S>
-S& part(SolverConfig& c) {
-    if constexpr (std::is_same_v<S, SolverConfig>) return c;
-    else return c.get<S>();
+using TargetOf = std::conditional_t<std::is_same_v<S, Constraints>, Constraints, SolverConfig>;
+
+template <class S, class Target>
+S& part(Target& c) {
+    if constexpr (std::is_same_v<S, Target>) return c;
+    else return c.template get<S>();
 }
-template <class S>
-const S& part(const SolverConfig& c) {
-    if constexpr (std::is_same_v<S, SolverConfig>) return c;
-    else return c.get<S>();
+template <class S, class Target>
+const S& part(const Target& c) {
+    if constexpr (std::is_same_v<S, Target>) return c;
+    else return c.template get<S>();
 }
 
-inline SolverKey row(const char* name, SolverKey::Type type, const char* doc) {
-    SolverKey k;
+template <class S>
+Key<TargetOf<S>> row(const char* name, KeyRow::Type type, const char* doc) {
+    Key<TargetOf<S>> k;
     k.name = name, k.type = type, k.doc = doc;
     return k;
 }
 
 template <class S>
-SolverKey integer(const char* name, int S::*field, int min, int max, const char* doc) {
-    SolverKey k = row(name, SolverKey::Type::Integer, doc);
+Key<TargetOf<S>> integer(const char* name, int S::*field, int min, int max, const char* doc) {
+    auto k = row<S>(name, KeyRow::Type::Integer, doc);
     k.min = min, k.max = max;
-    k.get = [field](const SolverConfig& c) { return double(part<S>(c).*field); };
-    k.set = [field](SolverConfig& c, double v) { part<S>(c).*field = int(v); };
+    k.get = [field](const TargetOf<S>& c) { return double(part<S>(c).*field); };
+    k.set = [field](TargetOf<S>& c, double v) { part<S>(c).*field = int(v); };
     return k;
 }
 
 template <class S>
-SolverKey real(const char* name, double S::*field, double min, double max, bool minOpen, bool maxOpen,
-               const char* doc) {
-    SolverKey k = row(name, SolverKey::Type::Real, doc);
+Key<TargetOf<S>> real(const char* name, double S::*field, double min, double max, bool minOpen, bool maxOpen,
+                      const char* doc) {
+    auto k = row<S>(name, KeyRow::Type::Real, doc);
     k.min = min, k.max = max, k.minOpen = minOpen, k.maxOpen = maxOpen;
-    k.get = [field](const SolverConfig& c) { return part<S>(c).*field; };
-    k.set = [field](SolverConfig& c, double v) { part<S>(c).*field = v; };
+    k.get = [field](const TargetOf<S>& c) { return part<S>(c).*field; };
+    k.set = [field](TargetOf<S>& c, double v) { part<S>(c).*field = v; };
     return k;
 }
 
 // A field that takes one of a few words; `values[i]` is the field's value for `words[i]`.
 template <class S, class V>
-SolverKey choice(const char* name, V S::*field, std::vector<std::pair<std::string, V>> options, const char* doc) {
-    SolverKey k = row(name, SolverKey::Type::Choice, doc);
+Key<TargetOf<S>> choice(const char* name, V S::*field, std::vector<std::pair<std::string, V>> options, const char* doc) {
+    auto k = row<S>(name, KeyRow::Type::Choice, doc);
     std::vector<V> values;
     for (auto& [word, value] : options) k.choices.push_back(word), values.push_back(value);
-    k.get = [field, values](const SolverConfig& c) {
+    k.get = [field, values](const TargetOf<S>& c) {
         for (std::size_t i = 0; i < values.size(); ++i)
             if (values[i] == part<S>(c).*field) return double(i);
         return 0.0;
     };
-    k.set = [field, values](SolverConfig& c, double v) { part<S>(c).*field = values[std::size_t(v)]; };
+    k.set = [field, values](TargetOf<S>& c, double v) { part<S>(c).*field = values[std::size_t(v)]; };
     return k;
 }
 
@@ -115,12 +134,13 @@ std::vector<SolverKey> parallel(const char* what) {
             choice<S, bool>("precision", &S::singlePrecision, {{"double", false}, {"float", true}}, what)};
 }
 
-inline SolverKey shown(SolverKey k) {
+template <class Target>
+Key<Target> shown(Key<Target> k) {
     k.alwaysShown = true;
     return k;
 }
 
-// The keys every kind takes (anti-stretch), and the one every implicit kind takes (eq. 17).
+// The key every implicit kind takes (eq. 17).
 std::vector<SolverKey> common(bool implicit);
 // `own` followed by the common keys.
 std::vector<SolverKey> with(std::vector<SolverKey> own, bool implicit);

@@ -554,7 +554,7 @@ TEST(SolverConfig, MultigridKeysAreWhatAUserChoosesAndItsTuningIsChecked) {
     int own = 0;
     for (const SolverKey& k : kind->keys) {
         const std::string name = k.name;
-        own += name != "compression" && name != "strain_limit" && name != "strain_passes" && name != "tether";
+        own += name != "compression";
     }
     EXPECT_LE(own, 6);
     for (const char* key : {"kcycle=1", "pre_sweeps=2", "damping=0.5", "start=zero", "coarse=rediscretize"}) {
@@ -664,7 +664,7 @@ TEST(SolverConfig, DescribeParsesBackToTheSameConfig) {
     // The study labels rows with describe() and re-parses it: the text must mean the same solver.
     for (const char* spec : {"kangcho", "kangcho:iterations=3,impl=gather,precision=float,threads=2",
                              "exact", "exact:method=multigrid", "cg:tolerance=1e-6", "multigrid",
-                             "multigrid:cycles=2,max_cycles=3,tolerance=0.01", "multigrid:precision=float,threads=2,strain_limit=0.1",
+                             "multigrid:cycles=2,max_cycles=3,tolerance=0.01", "multigrid:precision=float,threads=2",
                              "multigrid:precision=mixed", "chebyshev:iterations=4", "explicit:substeps=3",
                              "desbrun"}) {
         SolverConfig a, b;

@@ -2,8 +2,8 @@
 //   PhysicsAir          the per-triangle air force formula of air.h, evaluated by hand
 //   PhysicsCollision    distances and normals of planes, capsules and boxes from their geometry;
 //                       projection onto the surface and Coulomb friction written out
-//   PhysicsStrainLimit  Provot's correction for one spring by hand; the promises of
-//                       strain_limit.h (limit reached, pins still, momentum and centroid kept)
+//   PhysicsStretchLimit Provot's correction for one spring by hand; the promises of the stretch
+//                       limit (constraints.h: limit reached, pins still, momentum and centroid kept)
 //   PhysicsTethers      long-range attachments against each particle's nearest pin at rest,
 //                       found here by brute force; the move is radial and v changes by dx / h
 //   PhysicsChebyshev    Wang's Chebyshev recurrence run on the dense matrix with dense 3x3
@@ -35,7 +35,7 @@
 #include "cloth/collision.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
-#include "cloth/strain_limit.h"
+#include "cloth/constraints.h"
 #include "cloth/system.h"
 #include "cloth/thread_pool.h"
 
@@ -640,7 +640,7 @@ TEST(PhysicsCollision, ExactlyTheParticlesWithinTheThicknessOfTheGeometryMove) {
 // =============================================================================================
 // 3. Anti-stretch
 
-TEST(PhysicsStrainLimit, OnePassShortensOneSpringToTheLimitSplitByInverseMass) {
+TEST(PhysicsStretchLimit, OnePassShortensOneSpringToTheLimitSplitByInverseMass) {
     // Two triangles of different areas, so the ends of spring (0, 1) have different masses.
     // Only that spring is over the limit (50%); particles 2 and 3 sit close, every spring to
     // them compressed, so no other spring is corrected.
@@ -682,7 +682,7 @@ TEST(PhysicsStrainLimit, OnePassShortensOneSpringToTheLimitSplitByInverseMass) {
     }
 }
 
-TEST(PhysicsStrainLimit, EnoughPassesBringEverySpringWithinTheLimitAndPinsStayPut) {
+TEST(PhysicsStretchLimit, EnoughPassesBringEverySpringWithinTheLimitAndPinsStayPut) {
     Cloth c = stretchedFlag(5);
     std::vector<std::uint8_t> pinned(c.model.particleCount(), 0);
     for (Index i = 0; i < c.model.particleCount(); i += c.model.gridNx()) pinned[i] = 1;
@@ -704,7 +704,7 @@ TEST(PhysicsStrainLimit, EnoughPassesBringEverySpringWithinTheLimitAndPinsStayPu
     }
 }
 
-TEST(PhysicsStrainLimit, WithoutPinsMomentumAndMassMomentAreKept) {
+TEST(PhysicsStretchLimit, WithoutPinsMomentumAndMassMomentAreKept) {
     // Each correction moves the two ends by amounts inversely proportional to their masses:
     // sum m_i x_i and (since v changes by the correction / h) sum m_i v_i are unchanged.
     Cloth c = stretchedFlag(9);
@@ -723,7 +723,7 @@ TEST(PhysicsStrainLimit, WithoutPinsMomentumAndMassMomentAreKept) {
         << "sum m x before " << moment0.transpose() << ", after " << massMoment(c.model, c.state).transpose();
 }
 
-TEST(PhysicsStrainLimit, ThreadsSplitTheBlocksWithTheSameBits) {
+TEST(PhysicsStretchLimit, ThreadsSplitTheBlocksWithTheSameBits) {
     // 129 x 129: four blocks, which the pass splits between two threads.
     HangingFlagDesc d;
     d.nx = d.ny = 129;
@@ -836,11 +836,11 @@ TEST(PhysicsTethers, AStepWithTethersEndsWithinTheBoundAndOneWithoutDoesNot) {
         const StepInput input = stepInput(1.0 / 240, pins, nullptr);
         Scalar worst[2] = {0, 0};
         for (int on = 0; on < 2; ++on) {
-            std::string tethered = spec;
-            tethered += spec.find(':') == std::string::npos ? ':' : ',';
-            tethered += "tether=0.1";
-            auto solver = solverFor(on ? tethered : spec);
+            auto solver = solverFor(spec);
             ASSERT_TRUE(solver);
+            Constraints tethers;
+            tethers.tether = on ? 0.1 : 0;
+            solver->setConstraints(tethers);
             State state = flag.state;
             ASSERT_EQ(solver->step(flag.model, {}, state, input).status, StepStatus::Ok) << spec;
             const std::vector<TetherCheck> near = nearestPins(flag.model, pins);

@@ -35,7 +35,7 @@ StepResult stepOnce(const std::string& spec, HangingFlag& flag) {
 
 // Values to try for a key: every word of a choice, both ends of a closed range and points just
 // inside open ends; and values that must be refused.
-std::vector<std::string> goodValues(const SolverKey& k) {
+std::vector<std::string> goodValues(const KeyRow& k) {
     if (k.type == SolverKey::Type::Choice) return k.choices;
     auto text = [&](double v) {
         std::ostringstream s;
@@ -48,7 +48,7 @@ std::vector<std::string> goodValues(const SolverKey& k) {
     return {text(lo), text(hi)};
 }
 
-std::vector<std::string> badValues(const SolverKey& k) {
+std::vector<std::string> badValues(const KeyRow& k) {
     if (k.type == SolverKey::Type::Choice) return {"magic", ""};
     std::vector<std::string> out = {"abc", "1x", "nan", "inf"};
     const double below = k.type == SolverKey::Type::Integer ? k.min - 1 : (k.minOpen ? k.min : k.min - 1e-9 - 1e-9 * std::abs(k.min));
@@ -93,7 +93,47 @@ TEST(SolverTable, EveryKeyParsesPrintsAndReadsBackAndRefusesWhatIsOutOfRange) {
             }
         }
     }
-    EXPECT_GT(checked, 60);
+    EXPECT_GT(checked, 40);
+}
+
+TEST(SolverTable, EveryConstraintParsesPrintsAndReadsBackAndRefusesWhatIsOutOfRange) {
+    int checked = 0;
+    for (const ConstraintKey& key : constraintKeys()) {
+        for (const std::string& v : goodValues(key)) {
+            Constraints c, back;
+            std::string error;
+            const std::string spec = std::string(key.name) + "=" + v;
+            ASSERT_TRUE(parseConstraints(spec, c, &error)) << spec << ": " << error;
+            ASSERT_TRUE(parseConstraints(c.describe(), back, &error)) << c.describe() << ": " << error;
+            for (const ConstraintKey& other : constraintKeys())
+                EXPECT_EQ(other.get(back), other.get(c)) << spec << " -> " << c.describe() << ": " << other.name;
+            ++checked;
+        }
+        for (const std::string& v : badValues(key)) {
+            Constraints c;
+            c.tether = 0.5;
+            std::string error;
+            const std::string spec = std::string(key.name) + "=" + v;
+            EXPECT_FALSE(parseConstraints(spec, c, &error)) << spec;
+            EXPECT_NE(error.find(key.name), std::string::npos) << error;
+            EXPECT_NE(error.find("'" + v + "'"), std::string::npos) << error;
+            EXPECT_EQ(c.tether, 0.5) << "a refused spec must leave the constraints as they were";
+        }
+    }
+    EXPECT_EQ(checked, 6);
+    // None by default, and the solvers take none of the constraints' keys.
+    Constraints none;
+    std::string error;
+    ASSERT_TRUE(parseConstraints("", none, &error)) << error;
+    EXPECT_FALSE(none.any());
+    EXPECT_EQ(none.describe(), "");
+    SolverConfig config;
+    for (const char* spec : {"kangcho:tether=0.1", "exact:stretch_limit=0.1", "multigrid:strain_limit=0.1"})
+        EXPECT_FALSE(parseSolverConfig(spec, config, &error)) << spec;
+    EXPECT_FALSE(parseConstraints("tether", none, &error));
+    EXPECT_NE(error.find("key=value"), std::string::npos) << error;
+    EXPECT_FALSE(parseConstraints("passes=3", none, &error));
+    EXPECT_NE(error.find("known: tether, stretch_limit, stretch_passes"), std::string::npos) << error;
 }
 
 TEST(SolverTable, KeysOfOneKindAreRefusedByAnother) {

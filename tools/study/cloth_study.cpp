@@ -144,6 +144,18 @@ cloth::SolverConfig configOf(const std::string& spec, void (*tune)(cloth::Multig
     return c;
 }
 
+// The constraints after the '|' of a "solver|constraints" spec the study wrote (none without one).
+cloth::Constraints constraintsOf(const std::string& spec) {
+    const std::size_t bar = spec.find('|');
+    cloth::Constraints c;
+    std::string error;
+    if (bar != std::string::npos && !cloth::parseConstraints(spec.substr(bar + 1), c, &error)) {
+        std::fprintf(stderr, "cloth_study: constraints '%s': %s\n", spec.c_str() + bar + 1, error.c_str());
+        std::exit(2);
+    }
+    return c;
+}
+
 struct Runner {
     const cloth::Model& model;
     cloth::Environment env;
@@ -542,22 +554,22 @@ int main(int argc, char** argv) {
         return 1;
     }
     struct Variant {
-        std::string name, solver;
+        std::string name, solver;  // "solver spec|constraints" (constraints.h; no '|': none)
         int substeps;
         int implicitAir = -1;  // -1: as the scene says, else 0 / 1
         const engine::SceneConfig* scene = nullptr;  // whose flag (null: the demo's)
     };
-    std::vector<Variant> variants = {{"demo_default", demo.flag.solver.describe(), demo.flag.substeps},
+    std::vector<Variant> variants = {{"demo_default", demo.flag.solver.describe() + "|" + demo.flag.constraints.describe(), demo.flag.substeps},
                                      {"kangcho_1", "kangcho:iterations=1", 1},
                                      {"kangcho_1_substeps_4", "kangcho:iterations=1", 4},
-                                     {"kangcho_1_strain_10pct", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 1},
-                                     {"kangcho_1_strain_10pct_substeps_4", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 4},
+                                     {"kangcho_1_strain_10pct", "kangcho:iterations=1|stretch_limit=0.1,stretch_passes=16", 1},
+                                     {"kangcho_1_strain_10pct_substeps_4", "kangcho:iterations=1|stretch_limit=0.1,stretch_passes=16", 4},
                                      {"kangcho_2", "kangcho:iterations=2", 1},
                                      {"cg_5", "cg:iterations=5", 1},
                                      {"desbrun", "desbrun", 1},
-                                     {"desbrun_strain_10pct", "desbrun:strain_limit=0.1,strain_passes=16", 1},
+                                     {"desbrun_strain_10pct", "desbrun|stretch_limit=0.1,stretch_passes=16", 1},
                                      {"explicit_10", "explicit:substeps=10", 1},
-                                     {"kangcho_1_strain_10pct_implicit_air", "kangcho:iterations=1,strain_limit=0.1,strain_passes=16", 1, 1}};
+                                     {"kangcho_1_strain_10pct_implicit_air", "kangcho:iterations=1|stretch_limit=0.1,stretch_passes=16", 1, 1}};
     if (!quick)
         for (const Variant& v : std::vector<Variant>{{"multigrid", "multigrid", 1, 1},
                                                      {"multigrid_explicit_air", "multigrid", 1, 0},
@@ -565,7 +577,7 @@ int main(int argc, char** argv) {
             variants.push_back(v);
     if (!quick) variants.push_back({"exact", "exact", 1});
     if (!quick)  // the stiff flag; its exact reference by multigrid to 1e-10 (Cholesky takes 0.24 s a tick at 65x65)
-        for (const Variant& v : std::vector<Variant>{{"stiff_default", stiff.flag.solver.describe(), stiff.flag.substeps, -1, &stiff},
+        for (const Variant& v : std::vector<Variant>{{"stiff_default", stiff.flag.solver.describe() + "|" + stiff.flag.constraints.describe(), stiff.flag.substeps, -1, &stiff},
                                                      {"stiff_exact", "exact:method=multigrid", 1, -1, &stiff}})
             variants.push_back(v);
     if (!variantFilter.empty()) {
@@ -715,7 +727,8 @@ int main(int argc, char** argv) {
                 ++row;
                 if (!mine()) continue;
                 engine::SceneConfig s = extremeScene(v.scene ? *v.scene : demo, x, size);
-                s.flag.solver = configOf(v.solver);
+                s.flag.solver = configOf(v.solver.substr(0, v.solver.find('|')));
+                s.flag.constraints = constraintsOf(v.solver);
                 s.flag.substeps = v.substeps;
                 if (v.implicitAir >= 0) s.flag.implicitAir = v.implicitAir == 1;
                 const engine::PoleMount mount = extremeMount(demo);

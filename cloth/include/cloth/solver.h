@@ -11,9 +11,9 @@
 //   chebyshev  Jacobi with Chebyshev semi-iterative acceleration (Wang 2015)
 //   desbrun    Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once
 //   explicit   symplectic Euler with substeps
-// Every kind takes strain_limit= and strain_passes= (Provot's anti-stretch pass after the step)
-// and tether= (long-range attachments after the step, strain_limit.h), and every implicit kind
-// compression= (eq. 17).
+// Every implicit kind takes compression= (eq. 17). The corrections after a step (tethers, the
+// stretch limit) are the cloth's constraints, not a solver's keys: Solver::setConstraints
+// (constraints.h).
 // A step never throws and never hands back a non-finite state: on failure the state is left as
 // it was before the step and the status says why.
 
@@ -23,7 +23,7 @@
 #include <string_view>
 #include <variant>
 
-#include "cloth/strain_limit.h"
+#include "cloth/constraints.h"
 #include "cloth/system.h"
 
 namespace cloth {
@@ -95,9 +95,6 @@ struct ExplicitSettings {
 struct SolverConfig {
     std::string name = "kangcho";
     bool compressionRule = true;  // implicit kinds: eq. 17 in the Jacobian
-    double strainLimit = 0;       // any kind: Provot anti-stretch pass, max stretch (0 = off)
-    int strainLimitPasses = 4;
-    double tether = 0;            // any kind: long-range attachments, max stretch to the anchor (0 = off)
     std::variant<KangChoSettings, ExactSettings, MultigridSettings, ChebyshevSettings, DesbrunSettings,
                  ExplicitSettings>
         settings;
@@ -148,6 +145,9 @@ public:
     virtual StepResult step(const Model& model, const Environment& env, State& state,
                             const StepInput& input) = 0;
     const SolverConfig& config() const { return config_; }
+    // The cloth's constraints, applied after each step (none by default).
+    void setConstraints(const Constraints& constraints) { constraints_ = constraints; }
+    const Constraints& constraints() const { return constraints_; }
     const StepProfile& profile() const { return profile_; }
     // dv of the last step (implicit solvers), for solve-error diagnostics.
     const Points& lastDv() const { return dv_; }
@@ -165,7 +165,8 @@ protected:
     SolverConfig config_;
     StepProfile profile_;
     Points dv_;
-    Tethers tethers_;  // config_.tether's anchors, kept while the pins stay the same
+    Constraints constraints_;
+    Tethers tethers_;  // the tethers' anchors, kept while the pins stay the same
     std::shared_ptr<ThreadPool> pool_;
 
     template <class T>

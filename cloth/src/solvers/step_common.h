@@ -1,6 +1,6 @@
 #pragma once
-// What every solver's step shares: timing, the commit of a finished step (pins, anti-stretch
-// pass, finiteness), and the shape of an implicit step (build, solve for dv, v += dv, x += h v).
+// What every solver's step shares: timing, the commit of a finished step (pins, the cloth's
+// constraints, finiteness), and the shape of an implicit step (build, solve for dv, v += dv, x += h v).
 
 #include <chrono>
 
@@ -15,8 +15,8 @@ inline double msSince(Clock::time_point t0) {
 
 // Writes the step's outcome `scratch` into `state`, or leaves `state` untouched when anything is
 // non-finite. Pinned particles land exactly on their targets with their target velocity; then
-// the optional tethers and anti-stretch pass, in that order (pinned particles stay put).
-StepResult commit(const Model& model, const SolverConfig& config, const StepInput& input, Tethers& tethers,
+// the cloth's constraints: tethers, then the stretch limit (pinned particles stay put).
+StepResult commit(const Model& model, const Constraints& constraints, const StepInput& input, Tethers& tethers,
                   ThreadPool& pool, State& state, State& scratch, StepResult result);
 
 // Backward Euler step shape shared by every implicit solver: the system, dv, then v += dv,

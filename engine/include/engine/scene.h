@@ -66,6 +66,7 @@ struct SceneConfig {
         double mass = 0.25;          // kg
         cloth::Stiffness stiffness = {1e3, 1e2, 5};  // see docs/study.md: stiffer flags stop drooping under kangcho:1
         cloth::SolverConfig solver;  // kangcho, 1 iteration, eq. 17 on
+        cloth::Constraints constraints;  // tethers and the stretch limit after each step (none)
         double drag = 0.05;          // linear drag rate, 1/s
         double thickness = 0.015;    // collision margin, m
         int substeps = 1;            // cloth steps per physics tick

@@ -42,6 +42,7 @@ Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& c
     std::string error;
     solver_ = cloth::makeSolver(scene.flag.solver, &error);
     if (!solver_) throw ConfigError(scene.file + ": flag.solver: " + error);
+    solver_->setConstraints(scene.flag.constraints);
     env_.drag = scene.flag.drag;
     air_ = scene.subsystems & kAir;
     implicitAir_ = scene.flag.implicitAir;

@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 
 #include "core/json_fields.h"
 
@@ -113,21 +114,28 @@ void readResolution(const JsonFields& f, SceneConfig::Flag& flag) {
 
 // "flag.solver": a solver's name and its parameters, checked against the cloth library's solver
 // table (as --solver is).
+// Each key of `obj` but "name" through set(key, its value as text, error).
+void readKeys(const JsonFields& obj, const std::function<bool(const std::string&, const std::string&, std::string*)>& set) {
+    std::string error;
+    for (const auto& [key, value] : obj.object().items()) {
+        if (key == "name") continue;
+        const std::string text = value.is_boolean() ? (value.get<bool>() ? "on" : "off")
+                                 : value.is_string() ? value.get<std::string>()
+                                                     : value.dump();
+        if (!value.is_primitive() || value.is_null() || !set(key, text, &error))
+            obj.fail(obj.pathOf(key.c_str()), value,
+                     value.is_primitive() && !value.is_null() ? error : "must be a number, a word or true/false");
+    }
+}
+
 void readSolver(const JsonFields& solver, cloth::SolverConfig& config) {
     std::string error;
     const std::string name = solver.string("name", config.name);
     if (!cloth::defaultSolverConfig(name, config, &error))
         solver.fail(solver.pathOf("name"), solver.at("name"), error);
-    for (const auto& [key, value] : solver.object().items()) {
-        if (key == "name") continue;
-        const std::string text = value.is_boolean() ? (value.get<bool>() ? "on" : "off")
-                                 : value.is_string() ? value.get<std::string>()
-                                                     : value.dump();
-        if (!value.is_primitive() || value.is_null() ||
-            !cloth::setSolverParameter(config, key, text, &error))
-            solver.fail(solver.pathOf(key.c_str()), value,
-                        value.is_primitive() && !value.is_null() ? error : "must be a number, a word or true/false");
-    }
+    readKeys(solver, [&](const std::string& key, const std::string& text, std::string* why) {
+        return cloth::setSolverParameter(config, key, text, why);
+    });
     if (const std::string problem = cloth::validate(config); !problem.empty())
         solver.fail(solver.pathOf("name"), solver.has("name") ? solver.at("name") : nlohmann::json(name), problem);
 }
@@ -135,7 +143,7 @@ void readSolver(const JsonFields& solver, cloth::SolverConfig& config) {
 // "flag": its grid, size, mass, stiffness, solver, drag, collision margin and substeps.
 void readFlag(const JsonFields& top, SceneConfig::Flag& flag) {
     const JsonFields f = top.child("flag");
-    f.allowOnly({"resolution", "width", "height", "mass", "stiffness", "solver", "drag",
+    f.allowOnly({"resolution", "width", "height", "mass", "stiffness", "solver", "constraints", "drag",
                  "thickness", "substeps", "implicit_air"});
     if (f.has("resolution")) readResolution(f, flag);
     flag.width = f.number("width", flag.width, 0.01, 100);
@@ -147,6 +155,9 @@ void readFlag(const JsonFields& top, SceneConfig::Flag& flag) {
     flag.stiffness.shear = k.number("shear", flag.stiffness.shear, 1e-3, 1e9);
     flag.stiffness.bend = k.number("bend", flag.stiffness.bend, 0, 1e9);
     readSolver(f.child("solver"), flag.solver);
+    readKeys(f.child("constraints"), [&](const std::string& key, const std::string& text, std::string* why) {
+        return cloth::setConstraint(flag.constraints, key, text, why);
+    });
     flag.drag = f.number("drag", flag.drag, 0, 1e3);
     flag.thickness = f.number("thickness", flag.thickness, 0, 1);
     flag.substeps = f.integer("substeps", flag.substeps, 1, 1000);

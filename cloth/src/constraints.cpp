@@ -1,4 +1,4 @@
-#include "cloth/strain_limit.h"
+#include "cloth/constraints.h"
 
 #include "simd.h"
 

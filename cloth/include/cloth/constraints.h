@@ -1,6 +1,10 @@
 #pragma once
-// Anti-stretch: strain limiting in the manner of Provot 1995 ("Deformation constraints in a
-// mass-spring model to describe rigid cloth behavior"). After a step, every spring stretched
+// The cloth's constraints: corrections after a solver's step, set beside the solver (a scene's
+// flag.constraints, cloth_run's --constraints), whichever solver steps the cloth. Two kinds, in
+// this order: tethers, then the stretch limit.
+//
+// The stretch limit, in the manner of Provot 1995 ("Deformation constraints in a
+// mass-spring model to describe rigid cloth behavior"): after a step, every spring stretched
 // beyond (1 + maxStretch) times its rest length has its ends pulled together to that length
 // (split by inverse mass; pinned ends do not move), for a few Gauss-Seidel passes in the order of
 // Model::passSprings(): in spring order within bands of particles, which share no particle and so
@@ -8,6 +12,8 @@
 // the bands. The velocity of each moved particle changes by its correction / h, so the
 // constraint also removes the stretching velocity.
 
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "cloth/model.h"
@@ -16,7 +22,27 @@
 
 namespace cloth {
 
-// Returns the number of corrections applied. `pinned[i] != 0` marks particles that must not move.
+struct Constraints {
+    Scalar tether = 0;        // tethers: no particle farther from its nearest pin than (1 + tether) times at rest (0 = off)
+    Scalar stretchLimit = 0;  // the stretch limit: max stretch of a spring, 0.1 = 10% (0 = off)
+    int stretchPasses = 4;    // its Gauss-Seidel passes
+
+    bool any() const { return tether > 0 || stretchLimit > 0; }
+    // "tether=0.02,stretch_limit=0.1" with the keys that differ from the defaults ("" for none);
+    // parseConstraints reads it back.
+    std::string describe() const;
+};
+
+// Parses "key=value[,key=value...]" ("" = no constraints). Returns false and sets *error (naming
+// the key and value) on an unknown key or a bad value.
+bool parseConstraints(std::string_view spec, Constraints& out, std::string* error);
+// Sets one key from its text, with the same rules; on failure `c` is unchanged.
+bool setConstraint(Constraints& c, std::string_view key, std::string_view value, std::string* error);
+// An empty string when every key is in range, else what is wrong.
+std::string validate(const Constraints& c);
+// Their keys are printed with the solvers' (solverHelp(), solverTableMarkdown()).
+
+// The stretch limit: returns the number of corrections applied. `pinned[i] != 0` marks particles that must not move.
 int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes,
                  Scalar h, State& state, ThreadPool* pool = nullptr);
 
@@ -26,8 +52,8 @@ int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Sc
 // particle nearest to it at rest; after a step, a particle farther from its anchor than
 // (1 + maxStretch) times their rest distance is moved straight back onto that sphere, its
 // velocity changed by its correction / h. One pass, each particle on its own: no particle waits
-// on another, so it costs a pass over the particles whatever the stretch, where the anti-stretch
-// pass's Gauss-Seidel chains need many passes to carry a correction across the cloth. It bounds
+// on another, so it costs a pass over the particles whatever the stretch, where the stretch
+// limit's Gauss-Seidel chains need many passes to carry a correction across the cloth. It bounds
 // the distance to the pole, not a single spring's stretch.
 class Tethers {
 public:
