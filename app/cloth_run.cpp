@@ -100,8 +100,7 @@ int main(int argc, char** argv) {
             if (rep == 0) iterations += r.iterations;
             if (measureError)
                 maxSolveError = std::max(maxSolveError,
-                                         cloth::solveError(flag.model, env, before, input,
-                                                           config.compressionRule, solver->lastDv()));
+                                         cloth::solveError({flag.model, env, before, input, config.compressionRule}, solver->lastDv()));
         }
         const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         stepsPerSecond.push_back(o.steps / sec);

@@ -68,10 +68,10 @@ Diagnostics measure(const Model& model, const Environment& env, const State& sta
     return d;
 }
 
-Scalar solveError(const Model& model, const Environment& env, const State& stateBefore,
-                  const StepInput& input, bool compressionRule, const Points& dv) {
+Scalar solveError(const StepProblem& problem, const Points& dv) {
     LinearSystem sys;
-    buildSystem(model, env, stateBefore, input, compressionRule, sys);
+    buildSystem(problem, sys);
+    const Model& model = problem.model;
     Points exact;
     if (!solveExact(model, sys, exact)) return std::numeric_limits<Scalar>::quiet_NaN();
     const Scalar ref = exact.norm();

@@ -155,8 +155,8 @@ void FastKangCho<T>::jacobiSweeps(T h2, int iterations) {
 }
 
 template <class T>
-void FastKangCho<T>::solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                           bool compressionRule, int iterations, Points& dv, double* forcesMs) {
+void FastKangCho<T>::solve(const StepProblem& problem, int iterations, Points& dv, double* forcesMs) {
+    const auto& [model, env, state, input, compressionRule] = problem;
     const auto t0 = std::chrono::steady_clock::now();
     if (modelId_ != model.id()) prepare(model);
     setPins(state, input);

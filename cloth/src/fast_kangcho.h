@@ -20,8 +20,7 @@ template <class T>
 class FastKangCho final : public KangChoLayout {
 public:
     using KangChoLayout::KangChoLayout;
-    void solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
-               bool compressionRule, int iterations, Points& dv, double* forcesMs) override;
+    void solve(const StepProblem& problem, int iterations, Points& dv, double* forcesMs) override;
 
 private:
     void prepare(const Model& model);

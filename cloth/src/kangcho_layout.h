@@ -16,8 +16,7 @@ public:
     virtual ~KangChoLayout() = default;
     // dv (3 x n, double; pinned particles get their prescribed change). forcesMs: the time spent
     // building the system.
-    virtual void solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                       bool compressionRule, int iterations, Points& dv, double* forcesMs) = 0;
+    virtual void solve(const StepProblem& problem, int iterations, Points& dv, double* forcesMs) = 0;
 
 protected:
     ThreadPool& pool_;  // the solver's

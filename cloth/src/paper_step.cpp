@@ -15,8 +15,8 @@ namespace cloth {
 namespace {
 
 // The paper's step up to the system, and (when dv is given) the iterations on it.
-void paperStep(const Model& model, const Environment& env, const State& state, const StepInput& input,
-               bool compressionRule, int iterations, LinearSystem& sys, Points* dv) {
+void paperStep(const StepProblem& problem, int iterations, LinearSystem& sys, Points* dv) {
+    const auto& [model, env, state, input, compressionRule] = problem;
     const Index n = model.particleCount();
     const Scalar h = input.h, h2 = h * h;
     const auto& springs = model.springs();
@@ -83,14 +83,10 @@ void paperStep(const Model& model, const Environment& env, const State& state, c
 
 }  // namespace
 
-void buildSystem(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                 bool compressionRule, LinearSystem& sys) {
-    paperStep(model, env, state, input, compressionRule, 0, sys, nullptr);
-}
+void buildSystem(const StepProblem& problem, LinearSystem& sys) { paperStep(problem, 0, sys, nullptr); }
 
-void paperStep(const Model& model, const Environment& env, const State& state, const StepInput& input,
-               bool compressionRule, int iterations, LinearSystem& sys, Points& dv) {
-    paperStep(model, env, state, input, compressionRule, iterations, sys, &dv);
+void paperStep(const StepProblem& problem, int iterations, LinearSystem& sys, Points& dv) {
+    paperStep(problem, iterations, sys, &dv);
 }
 
 void jacobiStart(const LinearSystem& sys, Points& dv) {

@@ -368,9 +368,8 @@ void StencilKangCho<T>::writeResult(Points& dv) {
 }
 
 template <class T>
-void StencilKangCho<T>::solve(const Model& model, const Environment& env, const State& state,
-                              const StepInput& input, bool compressionRule, int iterations, Points& dv,
-                              double* forcesMs) {
+void StencilKangCho<T>::solve(const StepProblem& problem, int iterations, Points& dv, double* forcesMs) {
+    const auto& [model, env, state, input, compressionRule] = problem;
     const auto t0 = std::chrono::steady_clock::now();
     if (modelId_ != model.id()) prepare(model);
     const int n = n_, pad = pad_, nf = int(offsets_.size());

@@ -31,8 +31,7 @@ class StencilKangCho final : public KangChoLayout {
 public:
     // offsets: springFamilies(model) of the model it will step, not empty.
     StencilKangCho(ThreadPool& pool, std::vector<int> offsets) : KangChoLayout(pool), offsets_(std::move(offsets)) {}
-    void solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
-               bool compressionRule, int iterations, Points& dv, double* forcesMs) override;
+    void solve(const StepProblem& problem, int iterations, Points& dv, double* forcesMs) override;
 
     // One padded structure-of-arrays vector: element i at data()[pad + i].
     struct Field {

@@ -138,11 +138,11 @@ TEST(Multigrid, OneVCycleReducesTheResidualOfARandomRightHandSideFivefold) {
                          Size{25, 17, true}, Size{41, 33, true}}) {
         const Case c = stiffCase(s.nx, s.ny, s.mesh, 3);
         LinearSystem sys;
-        buildSystem(c.model, {}, c.state, inputOf(c), true, sys);
+        buildSystem({c.model, {}, c.state, inputOf(c), true}, sys);
         const Eigen::SparseMatrix<Scalar> W = assembleMatrix(c.model, sys);
         for (const int sweeps : {2, MultigridTuning{}.preSweeps}) {
             Multigrid<double> mg(tuned({}, [&](MultigridTuning& t) { t.preSweeps = t.postSweeps = sweeps; }));
-            mg.prepareSystem(c.model, {}, c.state, inputOf(c), true);
+            mg.prepareSystem({c.model, {}, c.state, inputOf(c), true});
             std::mt19937 rng(11);
             std::normal_distribution<Scalar> normal;
             Eigen::VectorXd b(3 * c.model.particleCount());
@@ -201,10 +201,10 @@ TEST(Multigrid, GalerkinCoarseOperatorEqualsTheDenseTripleProduct) {
         LinearSystem sys;
         Environment env;
         env.drag = 0.5;
-        buildSystem(c.model, env, c.state, inputOf(c), true, sys);
+        buildSystem({c.model, env, c.state, inputOf(c), true}, sys);
         // by stencil on grids this small too
         Multigrid<double> mg(tuned({}, [](MultigridTuning& t) { t.stencilGalerkinMinRow = 0; }));
-        mg.prepareSystem(c.model, env, c.state, inputOf(c), true);
+        mg.prepareSystem({c.model, env, c.state, inputOf(c), true});
         mg.vcycle(Eigen::VectorXd::Zero(3 * c.model.particleCount()));  // builds the coarse levels
         ASSERT_GE(mg.levels(), 2);
         const std::string hierarchy = mg.describeHierarchy();
@@ -235,8 +235,8 @@ TEST(Multigrid, AKCycleLevelReturnsTheEnergyMinimizerOverItsTwoCycles) {
         const Case c = stiffCase(s.nx, s.ny, s.mesh, 5);
         Multigrid<double> v(tuned({}, [](MultigridTuning& t) { t.kcycleLevels = 0; }));
         Multigrid<double> k(tuned({}, [](MultigridTuning& t) { t.kcycleLevels = 1; }));
-        v.prepareSystem(c.model, {}, c.state, inputOf(c), true);
-        k.prepareSystem(c.model, {}, c.state, inputOf(c), true);
+        v.prepareSystem({c.model, {}, c.state, inputOf(c), true});
+        k.prepareSystem({c.model, {}, c.state, inputOf(c), true});
         k.vcycle(Eigen::VectorXd::Zero(3 * c.model.particleCount()));  // builds the coarse levels
         ASSERT_GE(k.levels(), 3) << k.describeHierarchy();
         const Eigen::MatrixXd A = k.matrix(1).dense();
@@ -278,7 +278,7 @@ TEST(Multigrid, ToTenToTheMinusTenEqualsTheCholeskySolve) {
 TEST(Multigrid, AdaptiveCyclesStopAtTheToleranceAndReportTheCount) {
     const Case c = stiffCase(33, 33, false, 4);
     LinearSystem sys;
-    buildSystem(c.model, {}, c.state, inputOf(c), true, sys);
+    buildSystem({c.model, {}, c.state, inputOf(c), true}, sys);
     for (const double tol : {1e-1, 1e-2, 1e-4}) {
         auto solver = solverFor("multigrid:tolerance=" + std::to_string(tol) + ",max_cycles=50");
         State state = c.state;
@@ -322,7 +322,7 @@ TEST(Multigrid, TheLocalToleranceBoundsEveryParticlesJacobiCorrection) {
     for (int row = 15; row < 18; ++row)
         for (int col = 15; col < 18; ++col) pushed.external.col(row * 33 + col) += Vec3(0, 0, 6);
     LinearSystem sys;
-    buildSystem(pushed.model, {}, pushed.state, inputOf(pushed), true, sys);
+    buildSystem({pushed.model, {}, pushed.state, inputOf(pushed), true}, sys);
     for (const std::string options : {"", " stationary", ",precision=mixed"}) {
         const std::string spec = "multigrid:tolerance=1e-2,max_cycles=100" + (options[0] == ',' ? options : "");
         const bool krylov = options != " stationary";
@@ -362,7 +362,7 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneA
     int warmCycles = 0, coldCycles = 0;
     for (int k = 0; k < 10; ++k) {
         LinearSystem sys;
-        buildSystem(flag.model, {}, flag.state, in, true, sys);
+        buildSystem({flag.model, {}, flag.state, in, true}, sys);
         auto cold = solverFor(spec, zero);
         State coldState = flag.state;
         const StepResult rc = cold->step(flag.model, {}, coldState, in);
@@ -379,7 +379,7 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneA
     EXPECT_EQ(warm->step(flag.model, {}, again, in).iterations, 0);
     {
         LinearSystem sys;
-        buildSystem(flag.model, {}, flag.state, in, true, sys);
+        buildSystem({flag.model, {}, flag.state, in, true}, sys);
         EXPECT_LE(relativeResidual(flag.model, sys, warm->lastDv()), tol);
     }
     // A jump: a side force of 100 N per particle. The last solves' dv are far from the new one,
@@ -392,7 +392,7 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneA
     const StepResult rc = cold->step(flag.model, {}, coldState, in);
     {
         LinearSystem sys;
-        buildSystem(flag.model, {}, flag.state, in, true, sys);
+        buildSystem({flag.model, {}, flag.state, in, true}, sys);
         const StepResult rw = warm->step(flag.model, {}, flag.state, in);
         EXPECT_LE(rw.iterations, rc.iterations);
         EXPECT_LE(relativeResidual(flag.model, sys, warm->lastDv()), tol);
@@ -452,7 +452,7 @@ TEST(Multigrid, TwoPreviousSolvesSpanALinearlyChangingSolutionSoEachSolveNeedsAt
             EXPECT_EQ(r.status, StepStatus::Ok) << history << " " << k;
             if (k >= 3) cycles += r.iterations;
             LinearSystem sys;
-            buildSystem(c.model, {}, c.state, in, true, sys);
+            buildSystem({c.model, {}, c.state, in, true}, sys);
             *residual = std::max(*residual, relativeResidual(c.model, sys, solver->lastDv()));
         }
         return cycles;
@@ -481,7 +481,7 @@ TEST(Multigrid, ReusedCoarseOperatorsStillReachTheToleranceAndAreRebuiltWhenTheP
     for (int k = 0; k < 10; ++k) {
         // The residual of the reference path's system at this step, not the solver's own.
         LinearSystem sys;
-        buildSystem(flag.model, {}, flag.state, in, true, sys);
+        buildSystem({flag.model, {}, flag.state, in, true}, sys);
         ASSERT_EQ(lagged->step(flag.model, {}, flag.state, in).status, StepStatus::Ok);
         EXPECT_LE(relativeResidual(flag.model, sys, lagged->lastDv()), tol) << k;
         ASSERT_EQ(lagged1->step(flag.model, {}, oneCycle, in).status, StepStatus::Ok);
@@ -614,9 +614,9 @@ TEST(ImplicitAir, WGetsTheSymmetricPositivePartOfMinusDfDvTimesH) {
     const Scalar h = 1.0 / 240;
     StepInput in = inputOf(c, h);
     LinearSystem without, with;
-    buildSystem(c.model, {}, c.state, in, true, without);
+    buildSystem({c.model, {}, c.state, in, true}, without);
     in.damping = &damping;
-    buildSystem(c.model, {}, c.state, in, true, with);
+    buildSystem({c.model, {}, c.state, in, true}, with);
     for (Index i = 0; i < c.model.particleCount(); ++i) {
         if (without.pinned[i]) continue;
         // Independently: the symmetric part of -df/dv, eigenvalues clamped at zero.

@@ -864,7 +864,7 @@ TEST(PhysicsChebyshev, IteratesEqualTheRecurrenceOnTheDenseSystem) {
     env.drag = 0.3;
     const StepInput input = stepInput(1.0 / 60, pins, &external);
     LinearSystem sys;
-    buildSystem(c.model, env, c.state, input, true, sys);
+    buildSystem({c.model, env, c.state, input, true}, sys);
     const Eigen::MatrixXd W(assembleMatrix(c.model, sys));
     const Eigen::VectorXd b = flat(sys.rhs);  // pinned rows of W are identity, b their dv
     const Eigen::MatrixXd Dinv = blockDiagonalInverse(W), offDiagonal = W - blockDiagonal(W);

@@ -123,7 +123,7 @@ TEST(KangCho, JacobiApproachesExactSolveIterationByIteration) {
     const std::vector<Pin> pins = pinColumn(s.model);
     input.pins = pins;
     LinearSystem sys;
-    buildSystem(s.model, env, s.state, input, true, sys);
+    buildSystem({s.model, env, s.state, input, true}, sys);
     Points exact;
     ASSERT_TRUE(solveExact(s.model, sys, exact));
 
@@ -147,7 +147,7 @@ TEST(KangCho, JacobiApproachesExactSolveIterationByIteration) {
     jacobiStart(sys, d0);
     jacobiSweep(s.model, sys, d0, d1);
     const Scalar oneSweepError = (d1 - exact).norm() / exact.norm();
-    EXPECT_NEAR(solveError(s.model, env, s.state, input, true, solver->lastDv()), oneSweepError,
+    EXPECT_NEAR(solveError({s.model, env, s.state, input, true}, solver->lastDv()), oneSweepError,
                 1e-12);
 }
 
@@ -157,7 +157,7 @@ TEST(Exact, ResidualBelow1e10AndMatrixSymmetricPositiveDefinite) {
     StepInput input;
     input.h = 1.0 / 30;
     LinearSystem sys;
-    buildSystem(s.model, env, s.state, input, true, sys);
+    buildSystem({s.model, env, s.state, input, true}, sys);
     const Eigen::MatrixXd W = Eigen::MatrixXd(assembleMatrix(s.model, sys));
     EXPECT_LT((W - W.transpose()).norm(), 1e-15 * W.norm());
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(W);
@@ -185,7 +185,7 @@ TEST(Exact, ResidualBelow1e10AndMatrixSymmetricPositiveDefinite) {
         State state = s.state;
         const StepResult r = solver->step(s.model, env, state, input);
         ASSERT_EQ(r.status, StepStatus::Ok);
-        EXPECT_LE(solveError(s.model, env, s.state, input, true, solver->lastDv()), 1e-9) << spec;
+        EXPECT_LE(solveError({s.model, env, s.state, input, true}, solver->lastDv()), 1e-9) << spec;
     }
 }
 
@@ -286,7 +286,7 @@ TEST(Explicit, BlowsUpAboveItsStabilityLimitAndNotBelow) {
     input.h = 1.0;
     input.pins = flag.pins;
     LinearSystem sys;
-    buildSystem(flag.model, env, flag.state, input, true, sys);
+    buildSystem({flag.model, env, flag.state, input, true}, sys);
     // W = M + h^2 K with h = 1 on free rows: K = W - M.
     Eigen::MatrixXd K = Eigen::MatrixXd(assembleMatrix(flag.model, sys));
     const Index n = flag.model.particleCount();

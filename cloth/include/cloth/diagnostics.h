@@ -16,9 +16,8 @@ struct Diagnostics {
 Diagnostics measure(const Model& model, const Environment& env, const State& state,
                     bool structuralOnly = false);
 
-// |dv - dv_exact| / |dv_exact| for the system at `stateBefore` (same compression rule).
-Scalar solveError(const Model& model, const Environment& env, const State& stateBefore,
-                  const StepInput& input, bool compressionRule, const Points& dv);
+// |dv - dv_exact| / |dv_exact| for the system of the step's problem (its state: before the step).
+Scalar solveError(const StepProblem& problem, const Points& dv);
 
 // Index of the first particle with a non-finite position or velocity, or -1.
 Index firstNonFinite(const State& state);

@@ -195,8 +195,7 @@ bool solveExact(const Model& model, const LinearSystem& sys, Points& dv, Scalar*
 
 // The paper's step (paper_step.cpp, kangcho's impl=reference): builds the system at `state`,
 // then dv(0) and `iterations` Jacobi sweeps into dv.
-void paperStep(const Model& model, const Environment& env, const State& state, const StepInput& input,
-               bool compressionRule, int iterations, LinearSystem& sys, Points& dv);
+void paperStep(const StepProblem& problem, int iterations, LinearSystem& sys, Points& dv);
 
 // One Jacobi sweep: dvNext_i = W_ii^-1 (b_i + h^2 sum_j J_ij dv_j); pinned stay prescribed.
 void jacobiSweep(const Model& model, const LinearSystem& sys, const Points& dv, Points& dvNext);

@@ -37,6 +37,17 @@ struct StepInput {
     const std::vector<Mat3>* damping = nullptr;
 };
 
+// One implicit step's problem: the cloth, its environment, the state the step starts from, the
+// step's input and the Jacobian rule (eq. 17). Every layer of an implicit step reads it; it holds
+// references, so it lives no longer than what it names.
+struct StepProblem {
+    const Model& model;
+    const Environment& env;
+    const State& state;
+    const StepInput& input;
+    bool compressionRule = true;
+};
+
 // Gravity, drag, springs (eq. 15) and the external force, summed into f (3 x n).
 void computeForces(const Model& model, const Environment& env, const State& state,
                    const Points* externalForce, Points& f);
@@ -53,8 +64,7 @@ struct LinearSystem {
 };
 
 // Builds the system at `state`. Pins with out-of-range particle indices are ignored.
-void buildSystem(const Model& model, const Environment& env, const State& state,
-                 const StepInput& input, bool compressionRule, LinearSystem& sys);
+void buildSystem(const StepProblem& problem, LinearSystem& sys);
 
 // y_i = h^2 sum_{j free} J_ij x_j for free i; zero for pinned i. (The off-diagonal part of -W.)
 void applyOffDiagonal(const Model& model, const LinearSystem& sys, const Points& x, Points& y);

@@ -71,8 +71,8 @@ void FineSystem<T>::prepare(const Model& model, Level<T>& L0) {
 }
 
 template <class T>
-void FineSystem<T>::build(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                          bool rule, Level<T>& L0, ThreadPool& pool) {
+void FineSystem<T>::build(const StepProblem& problem, Level<T>& L0, ThreadPool& pool) {
+    const auto& [model, env, state, input, rule] = problem;
     const int n = model.particleCount();
     const T h = T(input.h), hh = h * h, c = T(env.drag);
     std::fill(pinned.begin(), pinned.end(), 0);

@@ -27,9 +27,8 @@ struct FineSystem {
 
     // Level 0's pattern (the model's springs) and the springs in the layout it allows.
     void prepare(const Model& model, Level<T>& L0);
-    // W, W_ii^-1 and b of level 0 at this state.
-    void build(const Model& model, const Environment& env, const State& state, const StepInput& input,
-               bool compressionRule, Level<T>& L0, ThreadPool& pool);
+    // W, W_ii^-1 and b of level 0 for the step's problem.
+    void build(const StepProblem& problem, Level<T>& L0, ThreadPool& pool);
     // Level 0 as `fine` holds it (the same model's system in double), rounded: what the cycles
     // read (W, its block copy, W_ii^-1, the free rows, the pinned particles); b stays with fine.
     void roundFrom(const FineSystem<double>& fine, const Level<double>& from, Level<T>& L0, ThreadPool& pool);

@@ -78,22 +78,21 @@ struct Multigrid<T>::Impl {
 
     bool adaptive() const { return settings.cycles == 0; }
     int cap() const { return adaptive() ? settings.maxCycles : settings.cycles; }
-    void prepareSystem(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                       bool compressionRule);
+    void prepareSystem(const StepProblem& problem);
     void refreshCoarse();
     void stationary(double bNorm, MultigridStats& stats);
     void conjugateGradients(double bNorm, MultigridStats& stats);
 };
 
 template <class T>
-void Multigrid<T>::Impl::prepareSystem(const Model& model, const Environment& env, const State& state,
-                                       const StepInput& input, bool compressionRule) {
+void Multigrid<T>::Impl::prepareSystem(const StepProblem& problem) {
+    const Model& model = problem.model;
     if (modelId != model.id()) {
         modelId = model.id();
         warm.clear();
         hierarchy.prepare(model, fine, hierarchyOptions(tuning));
     }
-    fine.build(model, env, state, input, compressionRule, hierarchy.level(0), pool);
+    fine.build(problem, hierarchy.level(0), pool);
     if constexpr (std::is_same_v<T, double>) {
         if (!floats) return;
         if (floats->modelId != model.id()) {
@@ -153,17 +152,15 @@ template <class T>
 Multigrid<T>::~Multigrid() = default;
 
 template <class T>
-void Multigrid<T>::prepareSystem(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                                 bool compressionRule) {
-    impl_->prepareSystem(model, env, state, input, compressionRule);
+void Multigrid<T>::prepareSystem(const StepProblem& problem) {
+    impl_->prepareSystem(problem);
 }
 
 template <class T>
-bool Multigrid<T>::solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                         bool compressionRule, Points& dv, MultigridStats& stats, double* forcesMs) {
+bool Multigrid<T>::solve(const StepProblem& problem, Points& dv, MultigridStats& stats, double* forcesMs) {
     const auto t0 = std::chrono::steady_clock::now();
     Impl& m = *impl_;
-    m.prepareSystem(model, env, state, input, compressionRule);
+    m.prepareSystem(problem);
     if (forcesMs) *forcesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     m.refreshCoarse();
     const Level<T>& L = m.hierarchy.level(0);

@@ -36,14 +36,12 @@ public:
     explicit Multigrid(const MultigridSettings& settings, std::shared_ptr<ThreadPool> pool = nullptr);
     ~Multigrid();
 
-    // Builds the system at `state` and solves it; dv gets the pinned particles' prescribed change.
+    // Builds the problem's system and solves it; dv gets the pinned particles' prescribed change.
     // Returns false when the result is not finite. forcesMs: time of the system build.
-    bool solve(const Model& model, const Environment& env, const State& state, const StepInput& input,
-               bool compressionRule, Points& dv, MultigridStats& stats, double* forcesMs = nullptr);
+    bool solve(const StepProblem& problem, Points& dv, MultigridStats& stats, double* forcesMs = nullptr);
 
     // The hierarchy's pieces, for tests and diagnostics (valid after solve or prepareSystem).
-    void prepareSystem(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                       bool compressionRule);
+    void prepareSystem(const StepProblem& problem);
     int levels() const;
     const BlockMatrix<T>& matrix(int level) const;
     Eigen::MatrixXd prolongation(int level) const;  // dense P from level + 1 to level

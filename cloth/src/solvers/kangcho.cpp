@@ -20,13 +20,13 @@ std::unique_ptr<KangChoLayout> layoutFor(ThreadPool& pool, std::vector<int> offs
 }
 
 class KangChoSolver final : public ImplicitSolver {
-    bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                   StepResult& result) override {
+    bool computeDv(const StepProblem& problem, StepResult& result) override {
+        const Model& model = problem.model;
         const KangChoSettings& s = settings<KangChoSettings>();
         const auto t0 = Clock::now();
         result.iterations = s.iterations;
         if (s.impl == KangChoSettings::Impl::Reference) {
-            paperStep(model, env, state, input, config_.compressionRule, s.iterations, sys_, dv_);
+            paperStep(problem, s.iterations, sys_, dv_);
             profile_.forcesMs = 0;
             profile_.solveMs = msSince(t0);
             return true;
@@ -37,7 +37,7 @@ class KangChoSolver final : public ImplicitSolver {
             layout_ = s.singlePrecision ? layoutFor<float>(*pool_, std::move(offsets))
                                         : layoutFor<double>(*pool_, std::move(offsets));
         }
-        layout_->solve(model, env, state, input, config_.compressionRule, s.iterations, dv_, &profile_.forcesMs);
+        layout_->solve(problem, s.iterations, dv_, &profile_.forcesMs);
         profile_.solveMs = msSince(t0) - profile_.forcesMs;
         return true;
     }

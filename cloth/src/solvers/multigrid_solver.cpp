@@ -33,8 +33,7 @@ private:
         m.tuning = tuning;
         return m;
     }
-    bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                   StepResult& result) override {
+    bool computeDv(const StepProblem& problem, StepResult& result) override {
         if (!float_ && !double_) {
             const MultigridSettings s = multigridSettings();
             if (s.precision == MultigridSettings::Precision::Float) float_ = std::make_unique<Multigrid<float>>(s, pool_);
@@ -42,8 +41,8 @@ private:
         }
         MultigridStats stats;
         const auto t0 = Clock::now();
-        const bool ok = float_ ? float_->solve(model, env, state, input, config_.compressionRule, dv_, stats, &profile_.forcesMs)
-                               : double_->solve(model, env, state, input, config_.compressionRule, dv_, stats, &profile_.forcesMs);
+        const bool ok = float_ ? float_->solve(problem, dv_, stats, &profile_.forcesMs)
+                               : double_->solve(problem, dv_, stats, &profile_.forcesMs);
         profile_.solveMs = msSince(t0) - profile_.forcesMs;
         result.iterations = stats.cycles;
         result.residual = stats.residual;

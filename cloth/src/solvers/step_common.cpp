@@ -53,7 +53,7 @@ StepResult ImplicitSolver::step(const Model& model, const Environment& env, Stat
     if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
     StepResult result;
     if (input.damping && Index(input.damping->size()) != model.particleCount()) return {StepStatus::SolverFailed, -1};
-    if (!computeDv(model, env, state, input, result)) result.status = StepStatus::SolverFailed;
+    if (!computeDv({model, env, state, input, config_.compressionRule}, result)) result.status = StepStatus::SolverFailed;
     if (result.status != StepStatus::Ok) return result;
 
     const auto t0 = Clock::now();
@@ -64,13 +64,12 @@ StepResult ImplicitSolver::step(const Model& model, const Environment& env, Stat
     return result;
 }
 
-bool ImplicitSolver::computeDv(const Model& model, const Environment& env, const State& state,
-                               const StepInput& input, StepResult& result) {
+bool ImplicitSolver::computeDv(const StepProblem& problem, StepResult& result) {
     auto t0 = Clock::now();
-    buildSystem(model, env, state, input, config_.compressionRule, sys_);
+    buildSystem(problem, sys_);
     profile_.forcesMs = msSince(t0);
     t0 = Clock::now();
-    const bool ok = solve(model, result);
+    const bool ok = solve(problem.model, result);
     profile_.solveMs = msSince(t0);
     return ok;
 }

@@ -28,8 +28,7 @@ public:
 protected:
     // Fills dv_ and profile_.forcesMs / solveMs. By default: the assembled system (sys_), then
     // solve().
-    virtual bool computeDv(const Model& model, const Environment& env, const State& state, const StepInput& input,
-                           StepResult& result);
+    virtual bool computeDv(const StepProblem& problem, StepResult& result);
     virtual bool solve(const Model& model, StepResult& result);
     LinearSystem sys_;
     State scratch_;
