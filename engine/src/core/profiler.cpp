@@ -34,8 +34,8 @@ void Profiler::endFrame() {
     rows_.push_back(std::move(row));
 }
 
-// Only the second level of Bullet's zones is kept: the first (internalSingleStepSimulation)
-// contains the tick callback, where the cloth runs, and deeper levels repeat their parents.
+// Only the second level of Bullet's zones is kept: the first (internalSingleStepSimulation) is
+// the whole tick, which the "bullet" phase already times, and deeper levels repeat their parents.
 void Profiler::enterZone(const char* name) {
     const int phase = zones_.size() == 1 ? addPhase(std::string("bullet:") + name) : -1;
     zones_.push_back({phase, Clock::now()});

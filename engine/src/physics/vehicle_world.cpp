@@ -60,7 +60,6 @@ struct VehicleWorld::Impl {
     std::unique_ptr<btRigidBody> chassis;
     std::unique_ptr<btVehicleRaycaster> raycaster;
     std::unique_ptr<btRaycastVehicle> vehicle;
-    std::function<void(double)> hook;
     VehicleControls controls;
     double steering = 0;
 
@@ -84,11 +83,6 @@ struct VehicleWorld::Impl {
     void addGround(const std::vector<GroundProp>& props);
     void addChassis(const VehicleParams& p);
     void addVehicle(const VehicleParams& p);
-
-    static void onTick(btDynamicsWorld* w, btScalar dt) {
-        auto* self = static_cast<Impl*>(w->getWorldUserInfo());
-        if (self->hook) self->hook(dt);
-    }
 };
 
 // Adds the ground: an infinite plane, then the props.
@@ -167,7 +161,6 @@ VehicleWorld::VehicleWorld(const VehicleParams& p) : impl_(std::make_unique<Impl
     ++gWorlds;
     Impl& m = *impl_;
     m.world.setGravity(btVector3(0, -9.81f, 0));
-    m.world.setInternalTickCallback(&Impl::onTick, &m, /*isPreTick=*/false);
     props_ = groundProps();
     m.addGround(props_);
     m.addChassis(p);
@@ -177,9 +170,8 @@ VehicleWorld::VehicleWorld(const VehicleParams& p) : impl_(std::make_unique<Impl
 VehicleWorld::~VehicleWorld() = default;
 
 void VehicleWorld::setControls(const VehicleControls& c) { impl_->controls = c; }
-void VehicleWorld::setTickHook(std::function<void(double)> hook) { impl_->hook = std::move(hook); }
 
-void VehicleWorld::stepTick(double dt) {
+double VehicleWorld::stepTick(double dt) {
     Impl& m = *impl_;
     const VehicleControls& c = m.controls;
     // Steering follows the input at a limited rate, like a driver's hands.
@@ -200,7 +192,9 @@ void VehicleWorld::stepTick(double dt) {
         m.vehicle->applyEngineForce(btScalar(brake > 0 ? 0.0 : engine), i);
         m.vehicle->setBrake(btScalar(brake + handbrake), i);
     }
-    m.world.stepSimulation(btScalar(dt), 1, btScalar(dt));
+    const btScalar h = btScalar(dt);
+    m.world.stepSimulation(h, 1, h);  // one internal tick of exactly h
+    return double(h);
 }
 
 RigidPose VehicleWorld::chassis() const {

@@ -75,6 +75,8 @@ struct Runtime::Impl {
 
     RigidFrame carrier() const { return vehicle ? vehicle->carrier() : fixedCarrier; }
     void tick();
+    void stepFlag(double h);
+    void measurePinError();
 
     // Construction, in this order.
     void applyOptions();
@@ -82,41 +84,44 @@ struct Runtime::Impl {
     void addPhases();
     void buildVehicle();
     void buildFlag();
-    void hookFlagToVehicle();
     void buildView();
 };
 
+// One fixed tick: the vehicle first, then the flag against the carrier's pose at the end of that
+// tick, each timed in its own phase ("bullet" here, the cloth phases from the flag's timings).
 void Runtime::Impl::tick() {
-    // The flag steps inside the physics tick, with the pole at its end-of-tick pose.
-    const double clothBefore = flag ? flag->timings().forces + flag->timings().solve +
-                                          flag->timings().air + flag->timings().collision
-                                    : 0;
-    const auto t0 = Clock::now();
-    if (vehicle) vehicle->stepTick(tickDt);  // calls back into the flag through its tick hook
-    else if (flag) {
-        std::vector<cloth::Collider> colliders = staticColliders;
-        colliders.push_back(flag->poleCollider(fixedCarrier));
-        flag->tick(tickDt, fixedCarrier, colliders);
-    }
+    double h = tickDt;
     if (vehicle) {
-        const double clothInside = flag ? flag->timings().forces + flag->timings().solve +
-                                              flag->timings().air + flag->timings().collision -
-                                              clothBefore
-                                        : 0;
-        profiler.add(ph.bullet, Profiler::msSince(t0) - clothInside);
+        Profiler::Scope scope(profiler, ph.bullet);
+        h = vehicle->stepTick(tickDt);  // the flag steps exactly as long as the chassis did
     }
+    if (flag) stepFlag(h);
     ++ticks;
-    if (flag) {
-        // Pin error: each pinned particle against its point on the pole, computed here from the
-        // mount and the carrier's pose (not from the flag's own pin targets).
-        const RigidFrame c = carrier();
-        const auto& pins = flag->pins();
-        const double dy = scene.flag.height / (scene.flag.ny - 1);
-        for (std::size_t r = 0; r < pins.size(); ++r) {
-            const Eigen::Vector3d local = mount.base + Eigen::Vector3d(0, mount.height - r * dy, 0);
-            maxPinError = std::max(maxPinError,
-                                   (flag->state().x.col(pins[r].particle) - c.point(local)).norm());
-        }
+    if (flag) measurePinError();
+}
+
+// Steps the flag by h with its pole where the carrier is now, against the ground and, on a
+// vehicle with collisions, the pole and the vehicle's body.
+void Runtime::Impl::stepFlag(double h) {
+    const RigidFrame c = carrier();
+    std::vector<cloth::Collider> colliders = staticColliders;
+    if (!vehicle) colliders.push_back(flag->poleCollider(c));
+    else if (scene.subsystems & kCollision) {
+        colliders.push_back(flag->poleCollider(c));
+        colliders.push_back(vehicle->bodyCollider());
+    }
+    flag->tick(h, c, colliders);
+}
+
+// Pin error: each pinned particle against its point on the pole, computed here from the mount
+// and the carrier's pose (not from the flag's own pin targets).
+void Runtime::Impl::measurePinError() {
+    const RigidFrame c = carrier();
+    const auto& pins = flag->pins();
+    const double dy = scene.flag.height / (scene.flag.ny - 1);
+    for (std::size_t r = 0; r < pins.size(); ++r) {
+        const Eigen::Vector3d local = mount.base + Eigen::Vector3d(0, mount.height - r * dy, 0);
+        maxPinError = std::max(maxPinError, (flag->state().x.col(pins[r].particle) - c.point(local)).norm());
     }
 }
 
@@ -230,20 +235,6 @@ void Runtime::Impl::buildFlag() {
         ground.axis = Eigen::Vector3d::UnitY();
         staticColliders.push_back(ground);
     }
-    if (vehicle) hookFlagToVehicle();
-}
-
-// Steps the flag inside the vehicle's physics ticks, against the pole and the vehicle's body.
-void Runtime::Impl::hookFlagToVehicle() {
-    vehicle->setTickHook([self = this](double h) {
-        const RigidFrame c = self->vehicle->carrier();
-        std::vector<cloth::Collider> colliders = self->staticColliders;
-        if (self->scene.subsystems & kCollision) {
-            colliders.push_back(self->flag->poleCollider(c));
-            colliders.push_back(self->vehicle->bodyCollider());
-        }
-        self->flag->tick(h, c, colliders);
-    });
 }
 
 // Builds the view that renders the scene (and its window and recording).

@@ -50,8 +50,7 @@ VehicleSystem::~VehicleSystem() {
 void VehicleSystem::setActions(const Actions& a) {
     world_->setControls({a.throttle, a.brake, a.steer, a.handbrake});
 }
-void VehicleSystem::setTickHook(std::function<void(double)> hook) { world_->setTickHook(std::move(hook)); }
-void VehicleSystem::stepTick(double dt) { world_->stepTick(dt); }
+double VehicleSystem::stepTick(double dt) { return world_->stepTick(dt); }
 
 RigidFrame VehicleSystem::carrier() const {
     const RigidPose p = world_->chassis();

@@ -1,9 +1,8 @@
 #pragma once
 // The vehicle subsystem as the runtime sees it: Bullet's world and raycast vehicle, driven by
-// actions, with a hook that runs on every internal physics tick (where the flag steps).
+// actions, one fixed physics tick at a time.
 
 #include <Eigen/Geometry>
-#include <functional>
 #include <memory>
 #include <vector>
 
@@ -27,8 +26,8 @@ public:
     static int worldsCreated();  // Bullet worlds ever constructed in this process
 
     void setActions(const Actions& actions);
-    void setTickHook(std::function<void(double)> hook);
-    void stepTick(double dt);  // one fixed tick; the hook runs at its end
+    // One fixed tick; returns the length Bullet integrated (dt in Bullet's scalar precision).
+    double stepTick(double dt);
 
     RigidFrame carrier() const;        // chassis pose and velocity
     PoleMount poleMount() const;       // the pole in the chassis frame

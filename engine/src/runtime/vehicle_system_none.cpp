@@ -15,8 +15,7 @@ VehicleSystem::VehicleSystem(const SceneConfig& scene, Profiler*) {
 VehicleSystem::~VehicleSystem() = default;
 int VehicleSystem::worldsCreated() { return 0; }
 void VehicleSystem::setActions(const Actions&) {}
-void VehicleSystem::setTickHook(std::function<void(double)>) {}
-void VehicleSystem::stepTick(double) {}
+double VehicleSystem::stepTick(double dt) { return dt; }
 RigidFrame VehicleSystem::carrier() const { return {}; }
 PoleMount VehicleSystem::poleMount() const { return mount_; }
 cloth::Collider VehicleSystem::bodyCollider() const { return {}; }

@@ -3,11 +3,9 @@
 // suspension) driven by throttle, brake, steer and handbrake. y is up; the vehicle drives along
 // its local +z (right-handed: x = left, y = up, z = forward).
 //
-// The world steps in fixed ticks; a hook runs at the end of every internal tick (Bullet's
-// internal tick callback), where the flag is stepped against the chassis pose of that tick.
+// The world steps in fixed ticks: each stepTick is exactly one of Bullet's internal ticks.
 
 #include <Eigen/Geometry>
-#include <functional>
 #include <memory>
 #include <vector>
 
@@ -62,9 +60,9 @@ public:
     VehicleWorld& operator=(const VehicleWorld&) = delete;
 
     void setControls(const VehicleControls& controls);
-    void setTickHook(std::function<void(double)> hook);
-    // One fixed tick of length dt (stepSimulation(dt, 1, dt)); the hook runs at its end.
-    void stepTick(double dt);
+    // One fixed tick of length dt (stepSimulation(dt, 1, dt)). Returns the length Bullet
+    // integrated: dt in Bullet's scalar precision (float in Debian's build).
+    double stepTick(double dt);
 
     RigidPose chassis() const;  // the rigid body's own transform, not the interpolated one
     double speed() const;       // m/s along the ground
