@@ -13,6 +13,7 @@
 
 #include "engine/config_error.h"
 #include "engine/input_script.h"
+#include "engine/tick_clock.h"
 #include "runtime/scene_view.h"
 #include "runtime/summary.h"
 #include "runtime/vehicle_system.h"
@@ -64,11 +65,8 @@ struct Runtime::Impl {
     std::unique_ptr<SceneView> view;         // kRender (+ kWindow, kRecording)
 
     int frame = 0, frames = 0;
-    long long ticks = 0;
-    double tickDt = 0;
-    bool lockstep = true;
-    Clock::time_point lastWall, nextFrame = Clock::now();
-    double accumulator = 0;
+    std::optional<TickClock> clock;  // set by planFrames
+    Clock::time_point nextFrame = Clock::now();
     double maxPinError = 0;
     std::string stopReason = "completed";
     Clock::time_point start = Clock::now();
@@ -90,13 +88,13 @@ struct Runtime::Impl {
 // One fixed tick: the vehicle first, then the flag against the carrier's pose at the end of that
 // tick, each timed in its own phase ("bullet" here, the cloth phases from the flag's timings).
 void Runtime::Impl::tick() {
-    double h = tickDt;
+    double h = clock->tickDt();
     if (vehicle) {
         Profiler::Scope scope(profiler, ph.bullet);
-        h = vehicle->stepTick(tickDt);  // the flag steps exactly as long as the chassis did
+        h = vehicle->stepTick(h);  // the flag steps exactly as long as the chassis did
     }
     if (flag) stepFlag(h);
-    ++ticks;
+    clock->countTick();
     if (flag) measurePinError();
 }
 
@@ -173,16 +171,16 @@ void Runtime::Impl::applyOptions() {
         throw ConfigError("--record-input: scene '" + s.name + "' has no vehicle to drive");
 }
 
-// Sets the tick length, the frame count and whether the run advances in lockstep.
+// Sets the frame count and the tick clock: whether the run advances in lockstep.
 void Runtime::Impl::planFrames() {
     const SceneConfig& s = scene;
-    tickDt = 1.0 / s.physicsHz;
     const double duration = opt.duration > 0 ? opt.duration : s.duration;
     frames = opt.frames > 0 ? opt.frames : std::max(1, int(std::lround(duration * s.fps)));
     // Only live input (a window driving a vehicle without a script) follows the wall clock;
     // everything else, and any run that records its input, advances in lockstep.
     const bool liveInput = (s.subsystems & kWindow) && (s.subsystems & kVehicle) && opt.scriptPath.empty();
-    lockstep = !liveInput || !opt.recordInput.empty();
+    const bool lockstep = !liveInput || !opt.recordInput.empty();
+    clock.emplace(s.physicsHz, s.fps, s.maxTicksPerFrame, lockstep);
 }
 
 // Adds the profiler's phases, in frame order, only for the subsystems the scene has.
@@ -257,7 +255,7 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     if (m.scene.subsystems & kVehicle) m.buildVehicle();
     if (m.scene.subsystems & kCloth) m.buildFlag();
     if (m.scene.subsystems & kRender) m.buildView();
-    m.lastWall = Clock::now();
+    m.clock->startWall();
 }
 
 Runtime::~Runtime() = default;
@@ -275,7 +273,7 @@ bool Runtime::frame() {
     }
     Profiler& p = m.profiler;
     p.beginFrame();
-    const double t = m.ticks * m.tickDt;
+    const double t = m.clock->simTime();
 
     if (m.vehicle) {
         Profiler::Scope scope(p, m.ph.input);
@@ -288,24 +286,8 @@ bool Runtime::frame() {
         m.vehicle->setActions(m.actions);
     }
 
-    // How many fixed ticks this frame: exactly the schedule in lockstep, else the wall clock.
-    long long ticksNow;
-    if (m.lockstep) {
-        const long long target =
-            static_cast<long long>(std::floor((m.frame + 1) * m.scene.physicsHz / m.scene.fps + 1e-9));
-        ticksNow = target - m.ticks;
-    } else {
-        const auto now = Clock::now();
-        m.accumulator += std::chrono::duration<double>(now - m.lastWall).count();
-        m.lastWall = now;
-        ticksNow = static_cast<long long>(m.accumulator / m.tickDt);
-        if (ticksNow > m.scene.maxTicksPerFrame) {
-            ticksNow = m.scene.maxTicksPerFrame;
-            m.accumulator = 0;  // drop the backlog instead of spiralling
-        } else {
-            m.accumulator -= ticksNow * m.tickDt;
-        }
-    }
+    // Fixed ticks this frame: exactly the schedule in lockstep, else what the wall clock gives.
+    const long long ticksNow = m.clock->ticksDue(m.frame);
     if (m.flag) m.flag->resetTimings();
     for (long long k = 0; k < ticksNow; ++k) m.tick();
     if (m.flag) {
@@ -339,7 +321,7 @@ int Runtime::finish() {
     f.frames = m.frame;
     f.width = m.scene.render.width;
     f.height = m.scene.render.height;
-    f.simTime = m.ticks * m.tickDt;
+    f.simTime = m.clock->simTime();
     f.wallSeconds = std::chrono::duration<double>(Clock::now() - m.start).count();
     f.stopReason = m.stopReason;
     f.maxPinError = m.maxPinError;
@@ -376,7 +358,7 @@ int Runtime::finish() {
 
 int Runtime::frameIndex() const { return impl_->frame; }
 int Runtime::frameCount() const { return impl_->frames; }
-double Runtime::simTime() const { return impl_->ticks * impl_->tickDt; }
+double Runtime::simTime() const { return impl_->clock->simTime(); }
 const Profiler& Runtime::profiler() const { return impl_->profiler; }
 const Flag* Runtime::flag() const { return impl_->flag.get(); }
 Flag* Runtime::mutableFlag() { return impl_->flag.get(); }
