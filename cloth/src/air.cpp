@@ -89,7 +89,7 @@ void runLoop(ThreadPool* pool, Index size, const std::function<void(int, int)>& 
 }  // namespace
 
 void addAirForces(const Model& model, const State& state, const AirParams& air, Points& f,
-                  std::vector<Mat3>* velocityJacobian, ThreadPool* pool) {
+                  std::vector<Mat3>* velocityJacobian, ThreadPool* pool, AirWorkspace* workspace) {
     // With N = (b - a) x (c - a) (|N| = 2 A, n = N / |N|) and q = w . N (wn = q / |N|), the three
     // terms of air.h add up to
     //   F = rho / 4 [(c_d - c_f + c_l) s q / |N| N + (c_f s |N| - c_l q^2 / (|N| s)) w]
@@ -104,10 +104,11 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
     const Index count = Index(triangles.size()), n = model.particleCount();
     // Every triangle's share (and block), then each particle's sum over its triangles in increasing
     // order: the bits of a loop over the triangles adding to their corners, whatever the threads,
-    // and no two threads write one place. The per-triangle arrays are reached through pointers: a
-    // worker thread naming the thread_local vectors would get its own.
-    static thread_local std::vector<Scalar> shareX, shareY, shareZ;
-    static thread_local std::vector<Mat3> blocks;
+    // and no two threads write one place.
+    AirWorkspace local;
+    AirWorkspace& ws = workspace ? *workspace : local;
+    std::vector<Scalar>&shareX = ws.shareX, &shareY = ws.shareY, &shareZ = ws.shareZ;
+    std::vector<Mat3>& blocks = ws.blocks;
     shareX.resize(count), shareY.resize(count), shareZ.resize(count);
     const ShareArgs args{triangles.data(), state.x.data(), state.v.data(), wind.x(), wind.y(), wind.z(),
                          quarterRho / 3, normal, friction, lift, shareX.data(), shareY.data(), shareZ.data()};

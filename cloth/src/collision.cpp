@@ -208,39 +208,43 @@ CLOTH_SIMD_CLONES void freeBounds(const Scalar* x, const std::uint8_t* pinned, I
 }  // namespace
 
 int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
-                      const std::vector<std::uint8_t>* pinnedFlags, State& state, ThreadPool* pool) {
+                      const std::vector<std::uint8_t>* pinnedFlags, State& state, ThreadPool* pool,
+                      CollisionWorkspace* workspace) {
     const Index count = static_cast<Index>(state.x.cols());
+    CollisionWorkspace local;
+    CollisionWorkspace& ws = workspace ? *workspace : local;
     // Broad phase: a collider that cannot reach the box around the free particles is skipped for
     // every particle that no earlier collider moved (a moved particle may have left the box).
     // The margin covers the rounding of the bound, so skipping never changes a result.
     Vec3 lo, hi;
     freeBounds(state.x.data(), pinnedFlags ? pinnedFlags->data() : nullptr, count, lo, hi);
     const bool box = (lo.array() <= hi.array()).all();  // false with no free particle
-    static thread_local std::vector<std::uint8_t> far;
+    std::vector<std::uint8_t>& far = ws.far;
     far.assign(colliders.size(), 0);
     if (box) {
         const Scalar boxScale = 1 + hi.cwiseAbs().maxCoeff() + lo.cwiseAbs().maxCoeff();
         for (std::size_t c = 0; c < colliders.size(); ++c)
             far[c] = distanceLowerBound(colliders[c], lo, hi) - thickness > 1e-9 * (boxScale + colliders[c].center.norm());
     }
-    static thread_local std::vector<Reject> rejects;
-    rejects.clear();
+    std::vector<Reject> rejects;
+    rejects.reserve(colliders.size());
     for (const Collider& c : colliders) rejects.push_back(prepareReject(c, thickness));
-    // Workers reach these through pointers (a worker naming a thread_local gets its own).
     const std::uint8_t* skip = far.data();
     const Reject* reject = rejects.data();
+    ws.near.resize(count);
+    ws.hit.resize(count);
     // Collider by collider over a range of particles, each particle meeting the colliders in
     // order as before (it moves only by its own collisions): first which particles the reject
     // lets through, all at once, then the rest of collideParticle() for those. A collider the
     // broad phase skips still meets the particles an earlier one moved.
     auto collide = [&](int begin, int end) {
-        static thread_local std::vector<std::uint8_t> near, hit;  // this thread's scratch
-        near.resize(end - begin);
-        hit.assign(end - begin, 0);
+        std::uint8_t* near = ws.near.data() + begin;  // this range's slice
+        std::uint8_t* hit = ws.hit.data() + begin;
+        std::fill(hit, hit + (end - begin), std::uint8_t(0));
         bool anyHit = false;
         for (std::size_t k = 0; k < colliders.size(); ++k) {
             if (skip[k] && !anyHit) continue;
-            markNear(reject[k], state.x.data(), begin, end, near.data());
+            markNear(reject[k], state.x.data(), begin, end, near);
             for (Index i = begin; i < end; ++i) {
                 if (!near[i - begin] || (skip[k] && !hit[i - begin]) || (pinnedFlags && (*pinnedFlags)[i])) continue;
                 Vec3 x = state.x.col(i), v = state.v.col(i);
@@ -250,7 +254,7 @@ int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
                 hit[i - begin] = 1, anyHit = true;
             }
         }
-        return int(std::count(hit.begin(), hit.end(), 1));
+        return int(std::count(hit, hit + (end - begin), 1));
     };
     if (!pool) return collide(0, count);
     std::atomic<int> moved{0};

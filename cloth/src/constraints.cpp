@@ -14,10 +14,7 @@ namespace {
 // coordinates start in the positions (3 i, 3 j), and the squared length at or under which it is
 // left alone: its limit squared, or just under 1e-24 (no direction to pull along) when that is
 // larger. One compare per spring instead of two products and two compares.
-struct Check {
-    Index xi = 0, xj = 0;
-    Scalar within = 0;
-};
+using Check = StretchLimit::Check;
 
 struct PassArgs {
     const Check* check;
@@ -61,30 +58,23 @@ CLOTH_SIMD_CLONES int correctRange(const PassArgs& a, Index begin, Index end) {
 
 }  // namespace
 
-int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes,
-                 Scalar h, State& state, ThreadPool* pool) {
+int StretchLimit::apply(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes,
+                        Scalar h, State& state, ThreadPool* pool) {
     const auto& springs = model.passSprings();
     const auto& start = model.passGroupStart();
     const Index blocks = model.passBlocks();
-    // The checks, found again only when the model or the limit changes on this thread.
-    static thread_local struct {
-        std::uint64_t model = 0;
-        Scalar maxStretch = -1;
-        std::vector<Check> check;
-    } table;
     const Scalar scale = 1 + maxStretch;
-    if (table.model != model.id() || table.maxStretch != maxStretch) {
+    if (model_ != model.id() || maxStretch_ != maxStretch) {  // the checks, found again
         const Scalar floor = std::nextafter(Scalar(1e-24), Scalar(0));
-        table.check.resize(springs.size());
+        check_.resize(springs.size());
         for (std::size_t k = 0; k < springs.size(); ++k) {
             const Scalar limit = scale * springs[k].rest;
-            table.check[k] = {3 * springs[k].i, 3 * springs[k].j, std::max(limit * limit, floor)};
+            check_[k] = {3 * springs[k].i, 3 * springs[k].j, std::max(limit * limit, floor)};
         }
-        table.model = model.id(), table.maxStretch = maxStretch;
+        model_ = model.id(), maxStretch_ = maxStretch;
     }
-    // Workers get the table through `args` (a worker naming the thread_local gets its own).
-    const PassArgs args{table.check.data(), springs.data(), state.x.data(), state.v.data(), model.masses().data(),
-                        pinned.data(),      scale,          h};
+    const PassArgs args{check_.data(), springs.data(), state.x.data(), state.v.data(), model.masses().data(),
+                        pinned.data(), scale,          h};
     auto correct = [&](Index begin, Index end) { return correctRange(args, begin, end); };
     int corrections = 0;
     for (int pass = 0; pass < passes; ++pass) {
@@ -148,6 +138,16 @@ int Tethers::apply(const Model& model, const std::vector<Pin>& pins, Scalar maxS
     std::atomic<int> moved{0};
     pool->run(int(free_.size()), [&](int begin, int end) { moved += pull(begin, end); });
     return moved;
+}
+
+void ConstraintSet::apply(const Model& model, const std::vector<Pin>& pins, Scalar h, State& state, ThreadPool* pool) {
+    if (settings_.tether > 0) tethers_.apply(model, pins, settings_.tether, h, state, pool);
+    if (settings_.stretchLimit <= 0) return;
+    const Index n = model.particleCount();
+    pinned_.assign(n, 0);
+    for (const Pin& p : pins)
+        if (p.particle >= 0 && p.particle < n) pinned_[p.particle] = 1;
+    stretch_.apply(model, pinned_, settings_.stretchLimit, settings_.stretchPasses, h, state, pool);
 }
 
 }  // namespace cloth

@@ -358,7 +358,10 @@ std::string Constraints::describe() const {
     const Constraints defaults;
     std::string out;
     for (const ConstraintKey& k : constraintKeys())
-        if (k.get(*this) != k.get(defaults)) out += (out.empty() ? "" : ",") + std::string(k.name) + "=" + k.text(*this);
+        if (k.get(*this) != k.get(defaults)) {
+            if (!out.empty()) out += ',';
+            out.append(k.name).append("=").append(k.text(*this));
+        }
     return out;
 }
 

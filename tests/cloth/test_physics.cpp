@@ -657,7 +657,7 @@ TEST(PhysicsStretchLimit, OnePassShortensOneSpringToTheLimitSplitByInverseMass) 
     const Scalar limit = 0.1, h = 0.01;
     const State before = state;
 
-    EXPECT_EQ(limitStretch(model, pinned, limit, 1, h, state), 1);
+    EXPECT_EQ(StretchLimit().apply(model, pinned, limit, 1, h, state), 1);
 
     // By hand: the spring must lose 1.5 - 1.1 = 0.4 along its direction (+x), end a moving by
     // 0.4 m_b / (m_a + m_b) and end b by 0.4 m_a / (m_a + m_b): the lighter end moves more.
@@ -690,7 +690,7 @@ TEST(PhysicsStretchLimit, EnoughPassesBringEverySpringWithinTheLimitAndPinsStayP
     ASSERT_GT(maxStrain(c.model, c.state), 0.45);
     const State before = c.state;
 
-    EXPECT_GT(limitStretch(c.model, pinned, limit, 1000, h, c.state), 0);
+    EXPECT_GT(StretchLimit().apply(c.model, pinned, limit, 1000, h, c.state), 0);
 
     EXPECT_LE(maxStrain(c.model, c.state), limit + 1e-9);
     for (Index i = 0; i < c.model.particleCount(); ++i) {
@@ -713,7 +713,7 @@ TEST(PhysicsStretchLimit, WithoutPinsMomentumAndMassMomentAreKept) {
     const Vec3 p0 = linearMomentum(c.model, c.state), moment0 = massMoment(c.model, c.state);
     const State before = c.state;
 
-    EXPECT_GT(limitStretch(c.model, none, 0.1, 50, h, c.state), 0);
+    EXPECT_GT(StretchLimit().apply(c.model, none, 0.1, 50, h, c.state), 0);
 
     EXPECT_GT((c.state.x - before.x).norm(), 0.1);  // it did move particles
     const Scalar momentumScale = c.model.totalMass() * (c.state.v - before.v).cwiseAbs().maxCoeff();
@@ -739,8 +739,8 @@ TEST(PhysicsStretchLimit, ThreadsSplitTheBlocksWithTheSameBits) {
     for (const Pin& p : flag.pins) pinned[p.particle] = 1;
     ThreadPool one(1), two(2);
     State serial = flag.state, split = flag.state;
-    const int a = limitStretch(flag.model, pinned, 0.1, 4, 1.0 / 240, serial, &one);
-    const int b = limitStretch(flag.model, pinned, 0.1, 4, 1.0 / 240, split, &two);
+    const int a = StretchLimit().apply(flag.model, pinned, 0.1, 4, 1.0 / 240, serial, &one);
+    const int b = StretchLimit().apply(flag.model, pinned, 0.1, 4, 1.0 / 240, split, &two);
     EXPECT_GT(a, 10000) << "the pass should have work to split";
     EXPECT_EQ(a, b);
     EXPECT_TRUE(serial.x == split.x && serial.v == split.v) << "two threads changed bits: max |dx| "

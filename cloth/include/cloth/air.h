@@ -37,8 +37,14 @@ struct AirParams {
 // (*velocityJacobian)[i] = df_i/dv_i (the exact diagonal blocks of the force's velocity
 // derivative, resized to n).
 // The work is split among `pool`'s threads when given (the same bits for any count).
+// `workspace`: the per-triangle arrays reused from call to call, owned by the caller (null: fresh ones).
+struct AirWorkspace {
+    std::vector<Scalar> shareX, shareY, shareZ;
+    std::vector<Mat3> blocks;
+};
 void addAirForces(const Model& model, const State& state, const AirParams& air, Points& f,
-                  std::vector<Mat3>* velocityJacobian = nullptr, ThreadPool* pool = nullptr);
+                  std::vector<Mat3>* velocityJacobian = nullptr, ThreadPool* pool = nullptr,
+                  AirWorkspace* workspace = nullptr);
 
 // The part of -dfdv that enters W: the symmetric part of -dfdv with its negative eigenvalues
 // clamped to zero.

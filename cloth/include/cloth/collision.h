@@ -33,8 +33,13 @@ bool collideParticle(const Collider& c, Scalar thickness, Vec3& x, Vec3& v);
 // particle inside two colliders counts once). A collider that cannot reach the bounding box of
 // the free particles is skipped (same results, tested against the loop over every pair). The
 // particles are split among `pool`'s threads when given (each particle on its own: the same bits).
+// `workspace`: scratch reused from call to call, owned by the caller (null: a fresh one).
+struct CollisionWorkspace {
+    std::vector<std::uint8_t> far, near, hit;  // per collider; per particle (each range its own slice)
+};
 int resolveCollisions(const std::vector<Collider>& colliders, Scalar thickness,
-                      const std::vector<std::uint8_t>* pinnedFlags, State& state, ThreadPool* pool = nullptr);
+                      const std::vector<std::uint8_t>* pinnedFlags, State& state, ThreadPool* pool = nullptr,
+                      CollisionWorkspace* workspace = nullptr);
 
 // Signed distance from p to the collider's surface (negative inside).
 Scalar signedDistance(const Collider& c, const Vec3& p, Vec3* normal);

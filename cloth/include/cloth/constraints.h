@@ -42,9 +42,24 @@ bool setConstraint(Constraints& c, std::string_view key, std::string_view value,
 std::string validate(const Constraints& c);
 // Their keys are printed with the solvers' (solverHelp(), solverTableMarkdown()).
 
-// The stretch limit: returns the number of corrections applied. `pinned[i] != 0` marks particles that must not move.
-int limitStretch(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes,
-                 Scalar h, State& state, ThreadPool* pool = nullptr);
+// The stretch limit, with its check table (per spring: where its ends' coordinates start and the
+// squared length it may reach) kept while the model and the limit stay the same.
+class StretchLimit {
+public:
+    // Returns the number of corrections applied. `pinned[i] != 0` marks particles that must not move.
+    int apply(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes, Scalar h,
+              State& state, ThreadPool* pool = nullptr);
+
+    struct Check {
+        Index xi = 0, xj = 0;
+        Scalar within = 0;
+    };
+
+private:
+    std::uint64_t model_ = 0;
+    Scalar maxStretch_ = -1;
+    std::vector<Check> check_;
+};
 
 // Long-range attachments (Kim, Chentanez & Mueller 2012, "Long range attachments - a method to
 // simulate inextensible clothing in computer games"), the stretch bound of game engines' cloth
@@ -68,6 +83,23 @@ private:
     Index particles_ = -1;
     std::vector<Index> free_, anchor_;
     std::vector<Scalar> rest_;
+};
+
+// The cloth's constraints with their workspaces: what a solver applies after each step.
+class ConstraintSet {
+public:
+    void set(const Constraints& c) { settings_ = c; }
+    const Constraints& settings() const { return settings_; }
+    bool any() const { return settings_.any(); }
+    // Tethers, then the stretch limit, on `state` after a step of length h (the pins' particles
+    // stay put).
+    void apply(const Model& model, const std::vector<Pin>& pins, Scalar h, State& state, ThreadPool* pool);
+
+private:
+    Constraints settings_;
+    Tethers tethers_;
+    StretchLimit stretch_;
+    std::vector<std::uint8_t> pinned_;
 };
 
 }  // namespace cloth

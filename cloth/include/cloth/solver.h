@@ -146,8 +146,8 @@ public:
                             const StepInput& input) = 0;
     const SolverConfig& config() const { return config_; }
     // The cloth's constraints, applied after each step (none by default).
-    void setConstraints(const Constraints& constraints) { constraints_ = constraints; }
-    const Constraints& constraints() const { return constraints_; }
+    void setConstraints(const Constraints& constraints) { constraints_.set(constraints); }
+    const Constraints& constraints() const { return constraints_.settings(); }
     const StepProfile& profile() const { return profile_; }
     // dv of the last step (implicit solvers), for solve-error diagnostics.
     const Points& lastDv() const { return dv_; }
@@ -165,8 +165,7 @@ protected:
     SolverConfig config_;
     StepProfile profile_;
     Points dv_;
-    Constraints constraints_;
-    Tethers tethers_;  // the tethers' anchors, kept while the pins stay the same
+    ConstraintSet constraints_;  // with their workspaces (the tethers' anchors, the stretch limit's checks)
     std::shared_ptr<ThreadPool> pool_;
 
     template <class T>

@@ -54,7 +54,7 @@ public:
         t0 = Clock::now();
         scratch_.v = state.v + dv_;
         scratch_.x = state.x + h * scratch_.v;
-        StepResult r = commit(model, constraints_, input, tethers_, *pool_, state, scratch_, StepResult{});
+        StepResult r = commit(model, constraints_, input, *pool_, state, scratch_, StepResult{});
         profile_.integrateMs = msSince(t0);
         return r;
     }

@@ -42,7 +42,7 @@ public:
         }
         auto t0 = Clock::now();
         dv_ = scratch_.v - state.v;
-        StepResult result = commit(model, constraints_, input, tethers_, *pool_, state, scratch_, StepResult{});
+        StepResult result = commit(model, constraints_, input, *pool_, state, scratch_, StepResult{});
         result.iterations = substeps;
         profile_.integrateMs = msSince(t0);
         return result;

@@ -19,8 +19,8 @@ int threadsOf(const SolverConfig& config) {
     return 1;
 }
 
-StepResult commit(const Model& model, const Constraints& constraints, const StepInput& input, Tethers& tethers,
-                  ThreadPool& pool, State& state, State& scratch, StepResult result) {
+StepResult commit(const Model& model, ConstraintSet& constraints, const StepInput& input, ThreadPool& pool,
+                  State& state, State& scratch, StepResult result) {
     const Index n = static_cast<Index>(state.x.cols());
     for (const Pin& p : input.pins) {
         if (p.particle < 0 || p.particle >= n) continue;
@@ -29,15 +29,7 @@ StepResult commit(const Model& model, const Constraints& constraints, const Step
     }
     // The corrections run on a finite state only (what they leave is finite too); the check after
     // them decides whether the step is kept.
-    const bool correct = constraints.any() && scratch.x.allFinite();
-    if (correct && constraints.tether > 0) tethers.apply(model, input.pins, constraints.tether, input.h, scratch, &pool);
-    if (correct && constraints.stretchLimit > 0) {
-        static thread_local std::vector<std::uint8_t> pinned;
-        pinned.assign(n, 0);
-        for (const Pin& p : input.pins)
-            if (p.particle >= 0 && p.particle < n) pinned[p.particle] = 1;
-        limitStretch(model, pinned, constraints.stretchLimit, constraints.stretchPasses, input.h, scratch, &pool);
-    }
+    if (constraints.any() && scratch.x.allFinite()) constraints.apply(model, input.pins, input.h, scratch, &pool);
     const Index bad = firstNonFinite(scratch);
     if (bad >= 0) {
         result.status = StepStatus::NonFinite;
@@ -59,7 +51,7 @@ StepResult ImplicitSolver::step(const Model& model, const Environment& env, Stat
     const auto t0 = Clock::now();
     scratch_.v = state.v + dv_;
     scratch_.x = state.x + input.h * scratch_.v;
-    result = commit(model, constraints_, input, tethers_, *pool_, state, scratch_, result);
+    result = commit(model, constraints_, input, *pool_, state, scratch_, result);
     profile_.integrateMs = msSince(t0);
     return result;
 }

@@ -16,8 +16,8 @@ inline double msSince(Clock::time_point t0) {
 // Writes the step's outcome `scratch` into `state`, or leaves `state` untouched when anything is
 // non-finite. Pinned particles land exactly on their targets with their target velocity; then
 // the cloth's constraints: tethers, then the stretch limit (pinned particles stay put).
-StepResult commit(const Model& model, const Constraints& constraints, const StepInput& input, Tethers& tethers,
-                  ThreadPool& pool, State& state, State& scratch, StepResult result);
+StepResult commit(const Model& model, ConstraintSet& constraints, const StepInput& input, ThreadPool& pool,
+                  State& state, State& scratch, StepResult result);
 
 // Backward Euler step shape shared by every implicit solver: the system, dv, then v += dv,
 // x += h v. Subclasses supply dv.

@@ -78,6 +78,8 @@ private:
     std::vector<cloth::Pin> pins_;
     std::vector<Eigen::Vector3d> pinLocal_;  // pinned particles in the carrier frame
     std::vector<std::uint8_t> collisionSkip_;  // pinned, or inside the pole at rest (the sleeve)
+    cloth::AirWorkspace airWorkspace_;          // scratch of the air and the collisions, reused every tick
+    cloth::CollisionWorkspace collisionWorkspace_;
     PoleMount mount_;
     bool air_ = false, collision_ = false, implicitAir_ = true;
     cloth::AirParams airParams_;

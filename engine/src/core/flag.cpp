@@ -114,7 +114,7 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
         const auto t0 = Clock::now();
         airForce_.setZero(3, model_.particleCount());
         cloth::addAirForces(model_, state_, airParams_, airForce_, implicitAir_ ? &airJacobian_ : nullptr,
-                            &solver_->threadPool());
+                            &solver_->threadPool(), &airWorkspace_);
         input.externalForce = &airForce_;
         if (implicitAir_) {  // backward Euler in the air's velocity too (solvers that cannot, ignore it)
             cloth::airDamping(airJacobian_, airDamping_);
@@ -135,7 +135,8 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
     }
     if (collision_ && !colliders.empty()) {
         const auto t0 = Clock::now();
-        cloth::resolveCollisions(colliders, thickness_, &collisionSkip_, state_, &solver_->threadPool());
+        cloth::resolveCollisions(colliders, thickness_, &collisionSkip_, state_, &solver_->threadPool(),
+                                 &collisionWorkspace_);
         timings_.collision += Profiler::msSince(t0);
     }
     return true;
