@@ -14,6 +14,7 @@
 #include "engine/config_error.h"
 #include "engine/input_script.h"
 #include "engine/tick_clock.h"
+#include "runtime/recording.h"
 #include "runtime/scene_view.h"
 #include "runtime/summary.h"
 #include "runtime/vehicle_system.h"
@@ -62,7 +63,8 @@ struct Runtime::Impl {
     RigidFrame fixedCarrier;                 // the world, for a fixed pole
     PoleMount mount;                         // the pole in its carrier's frame
     std::vector<cloth::Collider> staticColliders;
-    std::unique_ptr<SceneView> view;         // kRender (+ kWindow, kRecording)
+    std::unique_ptr<SceneView> view;         // kRender (+ kWindow)
+    std::unique_ptr<Recording> recording;    // kRender + kRecording
 
     int frame = 0, frames = 0;
     std::optional<TickClock> clock;  // set by planFrames
@@ -83,6 +85,7 @@ struct Runtime::Impl {
     void buildVehicle();
     void buildFlag();
     void buildView();
+    void buildRecording();
 };
 
 // One fixed tick: the vehicle first, then the flag against the carrier's pose at the end of that
@@ -235,11 +238,16 @@ void Runtime::Impl::buildFlag() {
     }
 }
 
-// Builds the view that renders the scene (and its window and recording).
+// Builds the view that renders the scene (and its window).
 void Runtime::Impl::buildView() {
-    view = std::make_unique<SceneView>(scene, opt, vehicle.get(), flag.get(), frames);
+    view = std::make_unique<SceneView>(scene, opt, vehicle.get(), flag.get());
     if (scene.subsystems & kWindow) ++gCounters.windows;
-    if (scene.subsystems & kRecording) ++gCounters.frameWriters;
+}
+
+// Builds the recording of the rendered frames: PNG frames, video, as the options ask.
+void Runtime::Impl::buildRecording() {
+    recording = std::make_unique<Recording>(scene, opt);
+    ++gCounters.frameWriters;
 }
 
 Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
@@ -255,6 +263,7 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     if (m.scene.subsystems & kVehicle) m.buildVehicle();
     if (m.scene.subsystems & kCloth) m.buildFlag();
     if (m.scene.subsystems & kRender) m.buildView();
+    if (m.view && (m.scene.subsystems & kRecording)) m.buildRecording();
     m.clock->startWall();
 }
 
@@ -298,7 +307,11 @@ bool Runtime::frame() {
         if (m.ph.collision >= 0) p.add(m.ph.collision, ft.collision);
     }
 
-    if (m.view) m.view->renderFrame(m.frame, p, m.ph.render, m.ph.readback, m.ph.write);
+    if (m.view) m.view->renderFrame(p, m.ph.render, m.ph.readback);
+    if (m.recording) {
+        Profiler::Scope scope(p, m.ph.write);
+        m.recording->write(m.frame, m.view->pixels());
+    }
     p.endFrame();
     ++m.frame;
     if (m.view && m.view->hasWindow()) {  // a window shows frames at the frame rate
@@ -330,9 +343,9 @@ int Runtime::finish() {
         f.clothFailures = m.flag->failures();
         f.firstClothFailure = m.flag->firstFailure();
     }
-    if (m.view) {
+    if (m.recording) {
         std::string error;
-        if (!m.view->finishRecording(&f.framesWritten, &f.video, &error)) {
+        if (!m.recording->finish(&f.framesWritten, &f.video, &error)) {
             f.writerError = error;
             std::fprintf(stderr, "flagsim: error: %s\n", error.c_str());
             code = 1;

@@ -1,4 +1,4 @@
-// Rendering and recording of a scene: context, renderer, meshes, camera, writers.
+// Rendering of a scene: context, renderer, meshes, camera.
 
 #include "runtime/scene_view.h"
 
@@ -10,8 +10,6 @@
 #ifdef FLAGSIM_HAS_BULLET
 #include "engine/physics/vehicle_world.h"
 #endif
-#include "engine/record/frame_writer.h"
-#include "engine/record/video_encoder.h"
 #include "engine/render/renderer.h"
 #include "runtime/vehicle_system.h"
 #ifdef FLAGSIM_HAS_ASSIMP
@@ -43,16 +41,12 @@ struct SceneView::Impl {
     Camera camera;
     bool cameraStarted = false;
     bool windowOpen = true;
-    std::unique_ptr<FrameWriter> writer;
-    std::unique_ptr<VideoEncoder> video;
-    std::string videoPath;
-    bool readback = false;
+    bool readback = false;  // read every frame back, even from a window
 
     void createContext();
     void addGroundAndPole();
     void addVehicleMeshes();
     void addFlagMesh();
-    void openWriters(const RunOptions& options);
     void updateCamera();
     std::vector<DrawItem> drawList();
 };
@@ -139,32 +133,18 @@ void SceneView::Impl::addFlagMesh() {
     flagMesh = r.addDynamicMesh(std::size_t(model.particleCount()), flagIndices, uvs, flagMat);
 }
 
-// Opens the frame writer and the video encoder the options ask for.
-void SceneView::Impl::openWriters(const RunOptions& options) {
-    const int w = scene->render.width, h = scene->render.height;
-    std::string error;
-    if (!options.noFrames) writer = std::make_unique<FrameWriter>(options.outDir + "/frames", w, h);
-    if (options.video) {
-        videoPath = options.outDir + "/video.mp4";
-        video = VideoEncoder::start(videoPath, w, h, scene->fps, &error);
-        if (!video) throw ConfigError("--video: " + error);
-    }
-}
-
 SceneView::SceneView(const SceneConfig& scene, const RunOptions& options, const VehicleSystem* vehicle,
-                     const Flag* flag, int frames)
+                     const Flag* flag)
     : impl_(std::make_unique<Impl>()) {
-    (void)frames;
     Impl& m = *impl_;
     m.scene = &scene;
     m.vehicle = vehicle;
     m.flag = flag;
-    m.readback = options.readback;
+    m.readback = options.readback || (scene.subsystems & kRecording);  // the recording takes every frame
     m.createContext();
     m.addGroundAndPole();
     if (vehicle) m.addVehicleMeshes();
     if (flag) m.addFlagMesh();
-    if (scene.subsystems & kRecording) m.openWriters(options);
 }
 
 SceneView::~SceneView() = default;
@@ -241,7 +221,7 @@ std::vector<DrawItem> SceneView::Impl::drawList() {
     return items;
 }
 
-void SceneView::renderFrame(int frame, Profiler& profiler, int phRender, int phReadback, int phWrite) {
+void SceneView::renderFrame(Profiler& profiler, int phRender, int phReadback) {
     Impl& m = *impl_;
     {
         Profiler::Scope scope(profiler, phRender);
@@ -255,37 +235,11 @@ void SceneView::renderFrame(int frame, Profiler& profiler, int phRender, int phR
     {
         Profiler::Scope scope(profiler, phReadback);
         // A live window without recording has no use for the pixels: skip the readback.
-        if (m.writer || m.video || m.readback || !m.context->isWindow()) m.renderer->readPixels(m.pixels);
+        if (m.readback || !m.context->isWindow()) m.renderer->readPixels(m.pixels);
         m.context->present();
-    }
-    if (phWrite >= 0) {
-        Profiler::Scope scope(profiler, phWrite);
-        if (m.writer) m.writer->push(frame, m.pixels);
-        if (m.video) m.video->push(m.pixels);
     }
 }
 
 const std::vector<std::uint8_t>& SceneView::pixels() const { return impl_->pixels; }
-
-bool SceneView::finishRecording(int* framesWritten, std::string* video, std::string* error) {
-    Impl& m = *impl_;
-    bool ok = true;
-    std::string err;
-    if (m.writer) {
-        ok = m.writer->finish();
-        if (!ok) err = m.writer->error();
-        *framesWritten = m.writer->written();
-    }
-    if (m.video) {
-        std::string verr;
-        if (m.video->finish(&verr)) *video = m.videoPath;
-        else {
-            ok = false;
-            if (err.empty()) err = verr;
-        }
-    }
-    if (!ok && error) *error = err;
-    return ok;
-}
 
 }  // namespace engine

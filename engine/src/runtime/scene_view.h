@@ -1,6 +1,7 @@
 #pragma once
-// What the runtime renders and records: the GL context (OSMesa, or an SDL2 window), the
-// renderer with the scene's meshes, the chase camera, and the frame writers.
+// What the runtime renders: the GL context (OSMesa, or an SDL2 window), the renderer with the
+// scene's meshes, the chase camera. Each frame's pixels are read back for the recording (see
+// recording.h), for --readback, and always offscreen.
 
 #include <memory>
 #include <string>
@@ -18,9 +19,9 @@ class VehicleSystem;
 
 class SceneView {
 public:
-    // Throws ConfigError when a context, model or writer cannot be created.
+    // Throws ConfigError when a context or model cannot be created.
     SceneView(const SceneConfig& scene, const RunOptions& options, const VehicleSystem* vehicle,
-              const Flag* flag, int frames);
+              const Flag* flag);
     ~SceneView();
     static int contextsCreated();  // GL contexts ever constructed in this process
 
@@ -28,12 +29,9 @@ public:
     bool windowClosed() const;
     Actions pollActions();  // keyboard and gamepad (window); also keeps the window alive
 
-    // Draws the frame, reads it back, and hands it to the writers (each timed in its phase).
-    void renderFrame(int frame, Profiler& profiler, int phRender, int phReadback, int phWrite);
-    const std::vector<std::uint8_t>& pixels() const;
-
-    // Drains the writers; false with *error when any write failed.
-    bool finishRecording(int* framesWritten, std::string* video, std::string* error);
+    // Draws the frame and reads it back into pixels() (each timed in its phase).
+    void renderFrame(Profiler& profiler, int phRender, int phReadback);
+    const std::vector<std::uint8_t>& pixels() const;  // RGBA, top-down
 
 private:
     struct Impl;

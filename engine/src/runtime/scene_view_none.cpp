@@ -7,8 +7,7 @@ namespace engine {
 
 struct SceneView::Impl {};
 
-SceneView::SceneView(const SceneConfig& scene, const RunOptions&, const VehicleSystem*,
-                     const Flag*, int) {
+SceneView::SceneView(const SceneConfig& scene, const RunOptions&, const VehicleSystem*, const Flag*) {
     throw ConfigError(scene.file + ": subsystems: scene '" + scene.name +
                       "' needs 'render', but this build has neither OSMesa nor SDL2");
 }
@@ -17,11 +16,10 @@ int SceneView::contextsCreated() { return 0; }
 bool SceneView::hasWindow() const { return false; }
 bool SceneView::windowClosed() const { return false; }
 Actions SceneView::pollActions() { return {}; }
-void SceneView::renderFrame(int, Profiler&, int, int, int) {}
+void SceneView::renderFrame(Profiler&, int, int) {}
 const std::vector<std::uint8_t>& SceneView::pixels() const {
     static const std::vector<std::uint8_t> none;
     return none;
 }
-bool SceneView::finishRecording(int*, std::string*, std::string*) { return true; }
 
 }  // namespace engine
