@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "engine/assets/model_loader.h"
 #include "engine/config_error.h"
@@ -98,4 +99,64 @@ TEST(ModelLoader, HostileModelsFromAssimpTestModelsNeverCrash) {
         }
     }
     EXPECT_GT(rejected, 5);
+}
+
+namespace {
+
+// Our vehicle model as a z-up tool writes it: every point and normal (x, y, z) as (x, -z, y).
+std::string zUpCopyOfOurVehicle() {
+    std::ifstream in(std::string(FLAGSIM_ASSETS_DIR) + "/models/vehicle.obj");
+    std::ostringstream out;
+    std::string line;
+    while (std::getline(in, line)) {
+        std::istringstream f(line);
+        std::string tag;
+        double x, y, z;
+        if ((f >> tag) && (tag == "v" || tag == "vn") && (f >> x >> y >> z)) out << tag << " " << x << " " << -z << " " << y << "\n";
+        else out << line << "\n";
+    }
+    return writeObj("flagsim_vehicle_zup.obj", out.str());
+}
+
+void expectSameBounds(const LoadedModel& a, const LoadedModel& b, const char* what) {
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(a.boundsMin[k], b.boundsMin[k], 1e-4) << what << " axis " << k;
+        EXPECT_NEAR(a.boundsMax[k], b.boundsMax[k], 1e-4) << what << " axis " << k;
+    }
+}
+
+}  // namespace
+
+TEST(ModelLoader, AYUpAndAZUpModelSitOnTheChassisAlike) {
+    // The chassis box of the demo's vehicle (half extents); the y-up model placed by default, the
+    // z-up copy with up = z: the same box on the chassis, within the box, with the same height.
+    const float half[3] = {0.9f, 0.35f, 2.0f};
+    LoadedModel yUp = loadModel(std::string(FLAGSIM_ASSETS_DIR) + "/models/vehicle.obj");
+    placeModel(yUp, half, ModelPlacement{});
+    const std::string zPath = zUpCopyOfOurVehicle();
+    LoadedModel zUp = loadModel(zPath);
+    ModelPlacement upZ;
+    upZ.up = 'z';
+    placeModel(zUp, half, upZ);
+    expectSameBounds(yUp, zUp, "z-up placed with up = z");
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_GE(zUp.boundsMin[k], -half[k] - 1e-4f) << k;
+        EXPECT_LE(zUp.boundsMax[k], half[k] + 1e-4f) << k;
+    }
+    // Placed as if it were y-up, the z-up model stands on its tail: fitted by its length into the
+    // chassis' height, it is far shorter than the chassis.
+    LoadedModel wrong = loadModel(zPath);
+    placeModel(wrong, half, ModelPlacement{});
+    EXPECT_LT(wrong.boundsMax[2] - wrong.boundsMin[2], 0.5f * (yUp.boundsMax[2] - yUp.boundsMin[2]));
+    // The default placement is the fit alone, to the bit; scale and offset then act on the fit.
+    LoadedModel fitted = loadModel(std::string(FLAGSIM_ASSETS_DIR) + "/models/vehicle.obj");
+    fitModel(fitted, half);
+    EXPECT_EQ(fitted.parts[0].positions, yUp.parts[0].positions);
+    ModelPlacement moved;
+    moved.scale = 0.5;
+    moved.offset = {0, 0.25, -0.5};
+    LoadedModel small = loadModel(std::string(FLAGSIM_ASSETS_DIR) + "/models/vehicle.obj");
+    placeModel(small, half, moved);
+    EXPECT_NEAR(small.boundsMin[1], 0.5 * yUp.boundsMin[1] + 0.25, 1e-5);
+    EXPECT_NEAR(small.boundsMax[2], 0.5 * yUp.boundsMax[2] - 0.5, 1e-5);
 }

@@ -101,6 +101,10 @@ TEST(Scene, MalformedScenesNameFileFieldAndValue) {
         {R"({"flag": {}})", "subsystems: missing"},
         {R"({"subsystems": ["vehicle"], "vehicle": {"model": "nowhere.obj"}})", "vehicle.model = \"nowhere.obj\": file not found"},
         {R"({"subsystems": ["vehicle", "render"]})", "vehicle.model: missing"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"scale": 0}}})", "vehicle.model_transform.scale = 0: must be in"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"scale": "NaN"}}})", "vehicle.model_transform.scale = \"NaN\": must be a number"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"up": "x"}}})", "vehicle.model_transform.up = \"x\": must be one of: y, z"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"offset": [0, 1]}}})", "vehicle.model_transform.offset = [0,1]: must be an array of 3"},
         {"{" + base + R"(, "script": "../scripts/none.json"})", "script = \"../scripts/none.json\": file not found"},
         // Found by the fuzzer: a path longer than the OS allows made std::filesystem throw.
         {"{" + base + R"(, "script": ")" + std::string(5000, 'x') + R"("})", "file not found"},

@@ -10,6 +10,7 @@
 #include "cloth/air.h"
 #include "cloth/model.h"
 #include "cloth/solver.h"
+#include "engine/assets/model_placement.h"
 
 namespace engine {
 
@@ -42,6 +43,7 @@ struct SceneConfig {
 
     struct Vehicle {
         std::string model;        // glTF/OBJ for the body, loaded with assimp
+        ModelPlacement modelTransform;  // its up axis, yaw, scale and offset on the chassis
         std::string wheelModel;   // optional
         double mass = 800;        // kg
         double engineForce = 2000;  // N per driven wheel at full throttle

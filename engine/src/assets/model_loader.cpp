@@ -104,4 +104,47 @@ void fitModel(LoadedModel& model, const float half[3]) {
     }
 }
 
+namespace {
+
+// The bounds of the parts' positions.
+void updateBounds(LoadedModel& model) {
+    for (int k = 0; k < 3; ++k) model.boundsMin[k] = INFINITY, model.boundsMax[k] = -INFINITY;
+    for (const MeshData& part : model.parts)
+        for (std::size_t i = 0; i < part.positions.size(); ++i) {
+            model.boundsMin[i % 3] = std::min(model.boundsMin[i % 3], part.positions[i]);
+            model.boundsMax[i % 3] = std::max(model.boundsMax[i % 3], part.positions[i]);
+        }
+}
+
+// v := R v for every position and normal, R row-major.
+void rotate(LoadedModel& model, const double R[9]) {
+    for (MeshData& part : model.parts)
+        for (std::vector<float>* v : {&part.positions, &part.normals})
+            for (std::size_t i = 0; i + 2 < v->size(); i += 3) {
+                const double x = (*v)[i], y = (*v)[i + 1], z = (*v)[i + 2];
+                for (int r = 0; r < 3; ++r) (*v)[i + r] = float(R[3 * r] * x + R[3 * r + 1] * y + R[3 * r + 2] * z);
+            }
+    updateBounds(model);
+}
+
+}  // namespace
+
+void placeModel(LoadedModel& model, const float half[3], const ModelPlacement& p) {
+    if (p.up == 'z') {  // z-up to y-up: a turn of -90 degrees about x, (x, y, z) -> (x, z, -y)
+        const double R[9] = {1, 0, 0, 0, 0, 1, 0, -1, 0};
+        rotate(model, R);
+    }
+    if (p.yawDegrees != 0) {
+        const double a = p.yawDegrees * 3.14159265358979323846 / 180, c = std::cos(a), s = std::sin(a);
+        const double R[9] = {c, 0, s, 0, 1, 0, -s, 0, c};
+        rotate(model, R);
+    }
+    fitModel(model, half);
+    if (p.scale == 1 && p.offset == std::array<double, 3>{0, 0, 0}) return;
+    for (MeshData& part : model.parts)
+        for (std::size_t i = 0; i < part.positions.size(); ++i)
+            part.positions[i] = float(part.positions[i] * p.scale + p.offset[i % 3]);
+    updateBounds(model);
+}
+
 }  // namespace engine

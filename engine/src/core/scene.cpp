@@ -71,13 +71,23 @@ void readTiming(const JsonFields& top, SceneConfig& s) {
     s.duration = timing.number("duration", s.duration, 0.001, 86400);
 }
 
+// "vehicle.model_transform": the model's up axis, yaw (degrees), scale and offset on the chassis.
+void readModelTransform(const JsonFields& t, ModelPlacement& placement) {
+    t.allowOnly({"up", "yaw", "scale", "offset"});
+    placement.up = t.oneOf("up", std::string(1, placement.up), {"y", "z"})[0];
+    placement.yawDegrees = t.number("yaw", placement.yawDegrees, -360, 360);
+    placement.scale = t.number("scale", placement.scale, 1e-3, 1e3);
+    placement.offset = t.vec3("offset", placement.offset, -100, 100);
+}
+
 // "vehicle": its model files (relative to the scene file), driving and its pole.
 void readVehicle(const JsonFields& top, const std::string& path, SceneConfig::Vehicle& vehicle) {
     const JsonFields v = top.child("vehicle");
-    v.allowOnly({"model", "wheel_model", "mass", "engine_force", "brake_force", "max_steer",
+    v.allowOnly({"model", "model_transform", "wheel_model", "mass", "engine_force", "brake_force", "max_steer",
                  "spawn", "heading", "pole_offset", "pole_height", "pole_radius"});
     vehicle.model = relativeTo(path, v.string("model", ""));
     requireFile(v, "model", vehicle.model);
+    readModelTransform(v.child("model_transform"), vehicle.modelTransform);
     vehicle.wheelModel = relativeTo(path, v.string("wheel_model", ""));
     requireFile(v, "wheel_model", vehicle.wheelModel);
     vehicle.mass = v.number("mass", vehicle.mass, 1, 1e6);

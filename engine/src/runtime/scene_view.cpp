@@ -99,7 +99,7 @@ void SceneView::Impl::addVehicleMeshes() {
     const float half[3] = {float(he.x()), float(he.y()), float(he.z())};
 #ifdef FLAGSIM_HAS_ASSIMP
     LoadedModel model = loadModel(scene->vehicle.model);
-    fitModel(model, half);
+    placeModel(model, half, scene->vehicle.modelTransform);
     for (const MeshData& part : model.parts) {
         Material mat;
         mat.color = {part.color[0], part.color[1], part.color[2]};

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/assets/model_placement.h"
 #include "engine/mesh.h"
 
 namespace engine {
@@ -27,5 +28,10 @@ LoadedModel loadModel(const std::string& path, const ModelLimits& limits = {});
 // Scales and moves the parts so that their bounding box fits `halfExtents` around the origin
 // (uniform scale, centred), e.g. to fit any model onto the physics chassis.
 void fitModel(LoadedModel& model, const float halfExtents[3]);
+
+// The scene's placement: the model turned so that its up axis is +y and by its yaw, fitted onto
+// `halfExtents` (fitModel), then scaled about the centre and offset. The default placement is
+// fitModel alone, to the bit.
+void placeModel(LoadedModel& model, const float halfExtents[3], const ModelPlacement& placement);
 
 }  // namespace engine
