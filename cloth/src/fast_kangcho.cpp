@@ -39,14 +39,7 @@ void FastKangCho<T>::prepare(const Model& model) {
 // Marks the pinned particles and stores their velocity changes.
 template <class T>
 void FastKangCho<T>::setPins(const State& state, const StepInput& input) {
-    std::fill(pinned_.begin(), pinned_.end(), 0);
-    std::fill(pin_.begin(), pin_.end(), T(0));
-    for (const Pin& p : input.pins) {
-        if (p.particle < 0 || p.particle >= n_) continue;
-        pinned_[p.particle] = 1;
-        const Vec3 dv = pinVelocityChange(p, state.x.col(p.particle), state.v.col(p.particle), input.h);
-        for (int a = 0; a < 3; ++a) pin_[3 * p.particle + a] = T(dv[a]);
-    }
+    gatherPins(state, input, pinned_, pin_);
 }
 
 // Computes every spring's direction, Jacobian terms and force magnitude.

@@ -4,7 +4,9 @@
 // 15-17), symmetric 3x3 blocks (product, inverse) and the pin velocity change. Plain inline
 // functions.
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "cloth/forces.h"
 #include "cloth/system.h"
@@ -80,5 +82,20 @@ inline Mat3 symmetricInverse(const Mat3& S) {
 // The velocity change that carries a pinned particle from x (velocity v) onto its target in one
 // step of length h: dv = (target - x) / h - v. Every implicit path prescribes it.
 inline Vec3 pinVelocityChange(const Pin& pin, const Vec3& x, const Vec3& v, Scalar h) { return (pin.x - x) / h - v; }
+
+// The step's pins: pinned[i] = 1 for each pinned particle (0 elsewhere) and its velocity change in
+// dv[3 i .. 3 i + 2] (0 elsewhere), as T. Pins outside the model are ignored.
+template <class T>
+void gatherPins(const State& state, const StepInput& input, std::vector<unsigned char>& pinned, std::vector<T>& dv) {
+    const Index n = Index(pinned.size());
+    std::fill(pinned.begin(), pinned.end(), 0);
+    std::fill(dv.begin(), dv.end(), T(0));
+    for (const Pin& p : input.pins) {
+        if (p.particle < 0 || p.particle >= n) continue;
+        pinned[p.particle] = 1;
+        const Vec3 d = pinVelocityChange(p, state.x.col(p.particle), state.v.col(p.particle), input.h);
+        for (int a = 0; a < 3; ++a) dv[3 * p.particle + a] = T(d[a]);
+    }
+}
 
 }  // namespace cloth

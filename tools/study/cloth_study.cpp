@@ -403,6 +403,21 @@ void exportForNewton(const std::string& dir, const Scene& scene, int n, double k
     writeNewtonInput(dir + "/" + scene.name + "_" + std::to_string(n) + ".json", j);
 }
 
+// Keeps the items of `all` named in `names` (none: all), in that order; false with the first
+// unknown name in `unknown`.
+template <class Item>
+bool chooseByName(std::vector<Item>& all, const std::vector<std::string>& names, std::string& unknown) {
+    if (names.empty()) return true;
+    std::vector<Item> chosen;
+    for (const std::string& name : names) {
+        const auto it = std::find_if(all.begin(), all.end(), [&](const Item& x) { return x.name == name; });
+        if (it == all.end()) return unknown = name, false;
+        chosen.push_back(*it);
+    }
+    all = std::move(chosen);
+    return true;
+}
+
 const char* kUsage = R"(usage: cloth_study [options]
 
 The solver study: error against run time on a hanging flag and on a flag following the demo's
@@ -580,25 +595,10 @@ int main(int argc, char** argv) {
         for (const Variant& v : std::vector<Variant>{{"stiff_default", stiff.flag.solver.describe() + "|" + stiff.flag.constraints.describe(), stiff.flag.substeps, -1, &stiff},
                                                      {"stiff_exact", "exact:method=multigrid", 1, -1, &stiff}})
             variants.push_back(v);
-    if (!variantFilter.empty()) {
-        std::vector<Variant> chosen;
-        for (const std::string& name : variantFilter) {
-            const auto it = std::find_if(variants.begin(), variants.end(), [&](const Variant& v) { return v.name == name; });
-            if (it == variants.end()) return usageError("--configs: unknown configuration '" + name + "'");
-            chosen.push_back(*it);
-        }
-        variants = chosen;
-    }
     std::vector<Extreme> cases = extremes();
-    if (!caseFilter.empty()) {
-        std::vector<Extreme> chosen;
-        for (const std::string& name : caseFilter) {
-            const auto it = std::find_if(cases.begin(), cases.end(), [&](const Extreme& x) { return x.name == name; });
-            if (it == cases.end()) return usageError("--cases: unknown extreme case '" + name + "'");
-            chosen.push_back(*it);
-        }
-        cases = chosen;
-    }
+    std::string unknown;
+    if (!chooseByName(variants, variantFilter, unknown)) return usageError("--configs: unknown configuration '" + unknown + "'");
+    if (!chooseByName(cases, caseFilter, unknown)) return usageError("--cases: unknown extreme case '" + unknown + "'");
     if (extremeSizes.empty()) extremeSizes = quick ? std::vector<int>{33} : std::vector<int>{33, 65};
     std::filesystem::create_directories(out);
     if (doExtremes && !extremeCasesDriveTheFlag(demo, exportDir.empty() ? out + "/extreme_cases.csv" : "")) return 1;

@@ -73,16 +73,8 @@ void FineSystem<T>::prepare(const Model& model, Level<T>& L0) {
 template <class T>
 void FineSystem<T>::build(const StepProblem& problem, Level<T>& L0, ThreadPool& pool) {
     const auto& [model, env, state, input, rule] = problem;
-    const int n = model.particleCount();
     const T h = T(input.h), hh = h * h, c = T(env.drag);
-    std::fill(pinned.begin(), pinned.end(), 0);
-    std::fill(pinDv.begin(), pinDv.end(), T(0));
-    for (const Pin& p : input.pins) {
-        if (p.particle < 0 || p.particle >= n) continue;
-        pinned[p.particle] = 1;
-        const Vec3 dv = pinVelocityChange(p, state.x.col(p.particle), state.v.col(p.particle), input.h);
-        for (int a = 0; a < 3; ++a) pinDv[3 * p.particle + a] = T(dv[a]);
-    }
+    gatherPins(state, input, pinned, pinDv);
     diagonalBase(model, input, h, c, base);
     const double* ext = input.externalForce ? input.externalForce->data() : nullptr;
     const RowForces<T> rows{model.masses().data(), state.v.data(), ext,
