@@ -2,7 +2,8 @@
 """The extreme cases as Markdown tables, one per flag size: a row per configuration (Newton's
 included), a column per case; a cell gives stable or not and the p99 stretch, and the peak
 stretch outside the teleport's jump; the last column is the median ms per 240 Hz tick over the
-cases the configuration ran.
+cases the configuration ran. A Newton row whose note says "old spin" ran the spin about the
+pole's own axis, which moved no pin: its cell says so instead of a result.
 
     tools/study/extreme_table.py out/study   (reads extreme.csv and, if present, newton_extreme.csv)
 """
@@ -33,6 +34,8 @@ def pct(x):
 def cell(r):
     if r is None:
         return ""
+    if r.get("note", "").startswith("old spin"):  # Newton's rows of the spin about the pole's own axis
+        return "old spin"
     p99 = num(r["p99_stretch"])
     if math.isnan(p99):  # a Newton row that could not run: its note says why
         return "could not run"
@@ -57,7 +60,8 @@ def main():
         print("|---" * (len(HEADERS) + 2) + "|")
         for c in configs:
             by_case = {r["case"]: r for r in here if r["config"] == c}
-            ms = [num(r["ms_per_tick"]) for r in by_case.values() if math.isfinite(num(r["ms_per_tick"]))]
+            ms = [num(r["ms_per_tick"]) for r in by_case.values()
+                  if math.isfinite(num(r["ms_per_tick"])) and not r.get("note", "").startswith("old spin")]
             cost = f"{statistics.median(ms):.3g}" if ms else "-"
             print(f"| {c} | " + " | ".join(cell(by_case.get(x)) for x in CASES) + f" | {cost} |")
         print()
