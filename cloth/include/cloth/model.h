@@ -21,7 +21,7 @@ struct Spring {
     Scalar rest = 0;  // rest length, m
 };
 
-// A spring as the anti-stretch pass reads it: its ends and rest length, half the bytes of a
+// A spring as the stretch limit reads it: its ends and rest length, half the bytes of a
 // Spring, since the pass streams every spring several times per step.
 struct PassSpring {
     Index i = 0, j = 0;
@@ -82,7 +82,7 @@ public:
     const std::vector<Index>& triStart() const { return triStart_; }
     const std::vector<Index>& triOf() const { return triOf_; }
 
-    // The anti-stretch pass's order (strain_limit.h), springs() in groups: group b < B
+    // The stretch limit's order (constraints.h), springs() in groups: group b < B
     // holds, in spring order, the springs with both ends in the b-th of B equal ranges of particle
     // indices (a band of rows on a grid); group B, the seam, every other spring, in spring order.
     // The first B groups share no particle, so they can run at once with the same bits; the seam
