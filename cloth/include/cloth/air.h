@@ -53,4 +53,24 @@ Mat3 dampingBlock(const Mat3& dfdv);
 // -df_i/dv_i of the air for every particle, as dampingBlock()s: what StepInput::damping takes.
 void airDamping(const std::vector<Mat3>& velocityJacobian, std::vector<Mat3>& damping);
 
+// The air force's whole derivative at one state, for a step that couples the air fully
+// (newton): df/dx, through each triangle's normal and area, and df/dv, through the relative air.
+// A triangle's force F(w, N) depends on the mean velocity of its corners and on N = (b-a)x(c-a),
+// so it couples its three corners, and neither part is symmetric. Kept per triangle as dF/dw and
+// dF/dN (3 x 3 each): a product is one pass over the triangles and one over the particles, in the
+// order addAirForces sums (the same bits for any thread count).
+class AirJacobian {
+public:
+    void compute(const Model& model, const State& state, const AirParams& air);
+    // out += (positionScale df/dx + velocityScale df/dv) in, all 3n particle-major.
+    void apply(const Model& model, const double* in, Scalar positionScale, Scalar velocityScale, double* out) const;
+    // df_i/dv_i: the diagonal blocks of df/dv (addAirForces' velocityJacobian).
+    void velocityDiagonal(const Model& model, std::vector<Mat3>& out) const;
+
+private:
+    std::vector<Mat3> dFdw_, dFdN_;  // per triangle, zero for a degenerate one or still air
+    std::vector<Vec3> e1_, e2_;      // b - a, c - a
+    mutable std::vector<Vec3> share_;
+};
+
 }  // namespace cloth

@@ -60,6 +60,7 @@ struct Multigrid<T>::Impl {
     ConjugateGradients<T> cg;
     std::unique_ptr<FloatCycles> floats;
     std::vector<T> x, r;  // the solve's iterate and residual
+    std::vector<T> px, py;  // product() in float: its operand and result
 
     Impl(const MultigridSettings& s, std::shared_ptr<ThreadPool> shared)
         : settings(s),
@@ -216,6 +217,40 @@ Eigen::VectorXd Multigrid<T>::coarseSolve(int level, const Eigen::VectorXd& b) {
     Eigen::VectorXd x(3 * L.A.n);
     for (int q = 0; q < 3 * L.A.n; ++q) x[q] = double(L.x[q]);
     return x;
+}
+
+template <class T>
+void Multigrid<T>::rebuildCoarse() {
+    impl_->hierarchy.invalidate();
+    impl_->refreshCoarse();
+}
+
+template <class T>
+void Multigrid<T>::product(const std::vector<double>& x, std::vector<double>& y) {
+    Impl& m = *impl_;
+    if constexpr (std::is_same_v<T, double>) {
+        m.hierarchy.product(0, x, nullptr, y);
+    } else {
+        m.px.assign(x.begin(), x.end());
+        m.hierarchy.product(0, m.px, nullptr, m.py);
+        y.assign(m.py.begin(), m.py.end());
+    }
+    const Level<T>& L = m.hierarchy.level(0);
+    for (std::size_t q = 0; q < y.size(); ++q) y[q] *= double(L.active[q / 3]);
+}
+
+template <class T>
+void Multigrid<T>::precondition(const std::vector<double>& r, std::vector<double>& z) {
+    Impl& m = *impl_;
+    if (m.floats) m.floats->cycle.precondition(m.floats->hierarchy, r, z);
+    else m.cycle.precondition(m.hierarchy, r, z);
+    const Level<T>& L = m.hierarchy.level(0);
+    for (std::size_t q = 0; q < z.size(); ++q) z[q] *= double(L.active[q / 3]);
+}
+
+template <class T>
+bool Multigrid<T>::free(Index particle) const {
+    return impl_->hierarchy.level(0).active[std::size_t(particle)] != T(0);
 }
 
 template <class T>

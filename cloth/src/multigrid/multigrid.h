@@ -53,6 +53,16 @@ public:
     Eigen::VectorXd coarseSolve(int level, const Eigen::VectorXd& b);
     std::string describeHierarchy() const;
 
+    // As the preconditioner of another solver's system (the Newton step's, nonlinear/): after
+    // prepareSystem(problem), rebuildCoarse() builds the coarse levels for it; then product() is
+    // level 0's W x and precondition() one cycle from zero, on 3n particle-major vectors whose
+    // pinned rows stay zero. Level 0 may be rebuilt by prepareSystem while the coarse levels stay.
+    void rebuildCoarse();
+    void product(const std::vector<double>& x, std::vector<double>& y);
+    void precondition(const std::vector<double>& r, std::vector<double>& z);
+    // 1 for a free particle, 0 for a pinned one (level 0's rows).
+    bool free(Index particle) const;
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
