@@ -72,6 +72,7 @@ const std::vector<SolverKind>& solverKinds() {
     using K = KangChoSettings;
     using C = ChebyshevSettings;
     using X = ExplicitSettings;
+    using N = NewtonSettings;
     static const std::vector<SolverKind> kinds = {
         {"kangcho", "the paper: dv(0) and Jacobi sweeps of the linearized backward Euler system (eqs. 11, 14)",
          defaultsTo<K>,
@@ -99,6 +100,19 @@ const std::vector<SolverKind>& solverKinds() {
         {"explicit", "symplectic Euler: v += h f / m, x += h v, in substeps", defaultsTo<X>,
          with({shown(integer<X>("substeps", &X::substeps, 1, 100000, "substeps per step"))}, false), {},
          makeExplicitSolver},
+        {"newton", "the implicit step converged: Newton iterations, GMRES with multigrid, the air fully coupled",
+         defaultsTo<N>,
+         with({shown(choice<N, N::Integrator>("integrator", &N::integrator,
+                                              {{"be", N::Integrator::BackwardEuler}, {"bdf2", N::Integrator::BDF2},
+                                               {"midpoint", N::Integrator::Midpoint}},
+                                              "backward Euler; BDF2 (Choi & Ko 2002; its first step backward Euler); theta-midpoint")),
+               real<N>("theta", &N::theta, 0.5, 1, false, false, "midpoint: forces at x_n + theta h u; 1/2 damps no mode, 1 is backward Euler"),
+               integer<N>("max_iterations", &N::maxIterations, 1, 100, "Newton iterations per step; 1 = the linearized step"),
+               real<N>("tolerance", &N::tolerance, 0, 1e3, true, false, "stop when the last iteration changed no velocity by more (m/s)"),
+               real<N>("linear_tolerance", &N::linearTolerance, 0, 1, true, true, "relative residual of each linear solve"),
+               integer<N>("threads", &N::threads, 1, 64, "worker threads (bit-identical results for any count)")},
+              true),
+         {}, makeNewtonSolver},
     };
     return kinds;
 }

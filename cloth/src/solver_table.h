@@ -156,5 +156,6 @@ std::unique_ptr<Solver> makeMultigridSolver(const SolverConfig& config);
 std::unique_ptr<Solver> makeChebyshevSolver(const SolverConfig& config);
 std::unique_ptr<Solver> makeDesbrunSolver(const SolverConfig& config);
 std::unique_ptr<Solver> makeExplicitSolver(const SolverConfig& config);
+std::unique_ptr<Solver> makeNewtonSolver(const SolverConfig& config);
 
 }  // namespace cloth

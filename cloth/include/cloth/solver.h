@@ -11,6 +11,7 @@
 //   chebyshev  Jacobi with Chebyshev semi-iterative acceleration (Wang 2015)
 //   desbrun    Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once
 //   explicit   symplectic Euler with substeps
+//   newton     the implicit step converged (backward Euler or BDF2), the air fully coupled
 // Every implicit kind takes compression= (eq. 17). The corrections after a step (tethers, the
 // stretch limit) are the cloth's constraints, not a solver's keys: Solver::setConstraints
 // (constraints.h).
@@ -92,11 +93,26 @@ struct ExplicitSettings {
     int substeps = 1;
 };
 
+// newton: the implicit step solved to convergence (nonlinear/newton.h): Newton iterations on the
+// step's equations, each a GMRES solve preconditioned by the multigrid hierarchy, with the air
+// fully coupled (its position and velocity derivatives, evaluated at the new state).
+struct NewtonSettings {
+    // be: backward Euler; bdf2: BDF2; midpoint: the theta-midpoint rule (theta = 1/2: implicit
+    // midpoint, which damps no mode; theta = 1: backward Euler)
+    enum class Integrator { BackwardEuler, BDF2, Midpoint };
+    Integrator integrator = Integrator::BackwardEuler;
+    double theta = 0.5;             // midpoint: where in the step the forces are taken
+    int maxIterations = 8;          // Newton iterations per step; 1 = the linearized step
+    double tolerance = 1e-3;        // stop when the last iteration changed no velocity by more, m/s
+    double linearTolerance = 1e-2;  // relative residual of each iteration's linear solve
+    int threads = 1;
+};
+
 struct SolverConfig {
     std::string name = "kangcho";
     bool compressionRule = true;  // implicit kinds: eq. 17 in the Jacobian
     std::variant<KangChoSettings, ExactSettings, MultigridSettings, ChebyshevSettings, DesbrunSettings,
-                 ExplicitSettings>
+                 ExplicitSettings, NewtonSettings>
         settings;
     // The settings of this config's kind (std::bad_variant_access for another kind).
     template <class S>
@@ -128,8 +144,9 @@ const char* toString(StepStatus status);
 struct StepResult {
     StepStatus status = StepStatus::Ok;
     Index badParticle = -1;  // first particle with a non-finite position or velocity
-    int iterations = 0;      // solver iterations used (CG, Jacobi, multigrid V-cycles)
-    Scalar residual = -1;    // relative residual of the linear solve; -1 where not computed
+    int iterations = 0;      // solver iterations used (CG, Jacobi, multigrid V-cycles; newton: Newton iterations)
+    Scalar residual = -1;    // relative residual of the linear solve (newton: max |R_i| / m_i); -1 where not computed
+    int linearIterations = 0;  // newton: the GMRES iterations of all its linear solves
 };
 
 // Milliseconds spent in each phase of the last step.
@@ -153,6 +170,11 @@ public:
     const Points& lastDv() const { return dv_; }
     // What the solver chose at run time, if anything (multigrid: its levels), for logs.
     virtual std::string details() const { return {}; }
+    // Whether the solver evaluates the air itself at the end-of-step state (StepInput::air).
+    virtual bool couplesAir() const { return false; }
+    // Forget what the solver keeps from earlier steps (BDF2's last state): the next step starts
+    // afresh. The caller calls it when it moves the cloth to a state the solver did not make.
+    virtual void resetHistory() {}
     // The worker threads of the kind's threads= setting (one thread: no workers). The step, its
     // post-step corrections and a caller's own per-step work (the engine's air) share them: two
     // pools would spin against each other on the same cores.

@@ -13,6 +13,8 @@
 
 namespace cloth {
 
+struct AirParams;  // air.h
+
 struct Environment {
     Vec3 gravity = Vec3(0, -9.81, 0);  // m/s^2
     Scalar drag = 0;                   // linear drag rate, 1/s: f_i = -drag m_i v_i (implicit)
@@ -35,6 +37,10 @@ struct StepInput {
     // air.h's airDamping), or null. Implicit solvers add h C_i to W_ii, which integrates the
     // external force implicitly in velocity; null keeps it explicit.
     const std::vector<Mat3>* damping = nullptr;
+    // The air, for a solver that evaluates it itself at the end-of-step state (Solver::couplesAir:
+    // newton). Such a solver ignores `damping`; the caller then leaves the air out of
+    // externalForce. Null for the others.
+    const AirParams* air = nullptr;
 };
 
 // One implicit step's problem: the cloth, its environment, the state the step starts from, the

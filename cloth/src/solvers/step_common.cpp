@@ -16,6 +16,7 @@ const char* toString(StepStatus status) {
 int threadsOf(const SolverConfig& config) {
     if (const auto* k = std::get_if<KangChoSettings>(&config.settings)) return k->threads;
     if (const auto* m = std::get_if<MultigridSettings>(&config.settings)) return m->threads;
+    if (const auto* m = std::get_if<NewtonSettings>(&config.settings)) return m->threads;
     return 1;
 }
 

@@ -1,0 +1,162 @@
+#include "newton.h"
+
+#include "cloth/forces.h"
+
+#include <cmath>
+#include <limits>
+
+namespace cloth {
+
+namespace {
+
+Scalar merit(const Model& model, const Points& residual) {  // |R|^2_{M^-1}
+    Scalar sum = 0;
+    for (Index i = 0; i < model.particleCount(); ++i) sum += residual.col(i).squaredNorm() / model.masses()[i];
+    return sum;
+}
+
+}  // namespace
+
+NewtonSolve::NewtonSolve(std::shared_ptr<ThreadPool> pool)
+    : pool_(std::move(pool)), sums_(*pool_), multigrid_(MultigridSettings{}, pool_), gmres_(sums_) {}
+
+NewtonSolve::~NewtonSolve() = default;
+
+// The Jacobians at `at`: the air's (when coupled), level 0 of the preconditioner's hierarchy and,
+// for an exact Newton matrix, what eq. 17 leaves out of it: J - J_17 = k (1 - l0/L) (I - u u^T)
+// on every compressed spring.
+void NewtonSolve::linearize(const StepEquations& eq, const State& at, bool exact) {
+    compressed_.clear();
+    if (exact && eq.compressionRule)
+        for (std::size_t s = 0; s < eq.model.springs().size(); ++s) {
+            const Spring& sp = eq.model.springs()[s];
+            const Vec3 d = at.x.col(sp.j) - at.x.col(sp.i);
+            const Scalar L = d.norm();
+            if (!(L < sp.rest) || L < kMinSpringLength) continue;
+            const Vec3 u = d / L;
+            compressed_.push_back({sp.i, sp.j, sp.k * (1 - sp.rest / L) * (Mat3::Identity() - u * u.transpose())});
+        }
+    StepInput in;
+    in.h = eq.k;
+    in.pins = eq.input.pins;
+    if (eq.input.air) {
+        air_.compute(eq.model, at, *eq.input.air);
+        air_.velocityDiagonal(eq.model, airDiagonal_);
+        airDamping(airDiagonal_, airDamping_);
+        in.damping = &airDamping_;
+    }
+    multigrid_.prepareSystem({eq.model, eq.env, at, in, eq.compressionRule});
+}
+
+// delta from A delta = rhs, A = W + k (df/dv + k df/dx of the air) - k C_air (W: the hierarchy's
+// level 0, which holds the air's symmetric positive diagonal C_air).
+int NewtonSolve::solveLinear(const StepEquations& eq, const NewtonControl& control, const Points& rhs, Points& delta) {
+    const Model& model = eq.model;
+    const Scalar k = eq.k;
+    const bool air = eq.input.air != nullptr;
+    KrylovSystem<double> system;
+    system.apply = [&](const std::vector<double>& x, std::vector<double>& y) {
+        multigrid_.product(x, y);
+        for (const Compressed& c : compressed_) {  // A = M - k D - k^2 K with K exact
+            if (pinned_[c.i] && pinned_[c.j]) continue;
+            const Vec3 d = (k * k) * (c.dJ * (Vec3(x[3 * c.j], x[3 * c.j + 1], x[3 * c.j + 2]) -
+                                               Vec3(x[3 * c.i], x[3 * c.i + 1], x[3 * c.i + 2])));
+            for (int a = 0; a < 3; ++a) {
+                if (!pinned_[c.i]) y[3 * c.i + a] -= d[a];
+                if (!pinned_[c.j]) y[3 * c.j + a] += d[a];
+            }
+        }
+        if (!air) return;
+        scratch_.assign(x.size(), 0.0);
+        air_.apply(model, x.data(), k * k, k, scratch_.data());
+        for (Index i = 0; i < model.particleCount(); ++i) {
+            if (pinned_[i]) continue;
+            const Vec3 c = airDamping_[i] * Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+            for (int a = 0; a < 3; ++a) y[3 * i + a] -= k * c[a] + scratch_[3 * i + a];
+        }
+    };
+    system.precondition = [&](const std::vector<double>& r, std::vector<double>& z) { multigrid_.precondition(r, z); };
+    b_.assign(rhs.data(), rhs.data() + rhs.size());
+    x_.assign(b_.size(), 0.0);
+    double rel = 0;
+    const int iterations = gmres_.solve(system, {30, control.maxLinearIterations, control.linearTolerance}, b_, x_, rel);
+    delta = Eigen::Map<const Points>(x_.data(), 3, model.particleCount());
+    return iterations;
+}
+
+// The forces and the residual at `at`; returns max |R_i| / m_i.
+Scalar NewtonSolve::evaluate(const StepEquations& eq, const State& at) {
+    stepForces(eq, at, force_, pool_.get(), &airWorkspace_);
+    return stepResidual(eq, at, force_, pinned_, residual_);
+}
+
+// iterate += alpha delta for the first alpha in 1, 1/2, ..., 1/64 that lowers |R|_{M^-1} enough
+// (Armijo), else the lowest of them if it is lower than now, else no step: false.
+bool NewtonSolve::lineSearch(const StepEquations& eq, const Points& delta, State& iterate, Scalar& current,
+                             NewtonStats& stats) {
+    State trial = iterate;
+    Scalar best = current, bestAlpha = 0;
+    for (Scalar alpha = 1; alpha >= Scalar(1) / 64; alpha /= 2) {
+        trial.v = iterate.v + alpha * delta;
+        trial.x = eq.xHat + eq.k * trial.v;
+        stepForces(eq, trial, trialForce_, pool_.get(), &airWorkspace_);
+        stepResidual(eq, trial, trialForce_, pinned_, trialResidual_);
+        const Scalar m = merit(eq.model, trialResidual_);
+        if (m < best) best = m, bestAlpha = alpha;
+        if (m < current * (1 - Scalar(1e-4) * alpha)) break;
+        ++stats.lineSearchCuts;
+    }
+    if (bestAlpha == 0) return false;
+    iterate.v += bestAlpha * delta;
+    iterate.x = eq.xHat + eq.k * iterate.v;
+    current = best;
+    return true;
+}
+
+bool NewtonSolve::solve(const StepEquations& eq, const NewtonControl& control, State& iterate, NewtonStats& stats) {
+    const Model& model = eq.model;
+    const Index n = model.particleCount();
+    stats = {};
+    pinned_.assign(n, 0);
+    for (const Pin& p : eq.input.pins)
+        if (p.particle >= 0 && p.particle < n) pinned_[p.particle] = 1;
+    // Iteration 1, linearized at the start (iterate.x = x_n): with r1 = x_n - xHat - k v,
+    // A dv = -R - k K r1 (K = df/dx: springs and air).
+    linearize(eq, iterate, false);
+    multigrid_.rebuildCoarse();  // the coarse levels stay for the later iterations of the step
+    evaluate(eq, iterate);
+    const Points r1 = iterate.x - eq.xHat - eq.k * iterate.v;
+    Points rhs;
+    springStiffnessTimes(model, iterate.x, eq.compressionRule, r1, rhs);
+    if (eq.input.air) air_.apply(model, r1.data(), 1, 0, rhs.data());
+    rhs = -residual_ - eq.k * rhs;
+    for (Index i = 0; i < n; ++i)
+        if (pinned_[i]) rhs.col(i).setZero();
+    Points delta;
+    stats.linearIterations += solveLinear(eq, control, rhs, delta);
+    iterate.v += delta;
+    iterate.x = eq.xHat + eq.k * iterate.v;
+    stats.iterations = 1;
+    stats.residual = evaluate(eq, iterate);
+    stats.correction = delta.cwiseAbs().maxCoeff();
+    Scalar current = merit(model, residual_);
+    while (std::isfinite(current) && stats.correction > control.tolerance && stats.iterations < control.maxIterations) {
+        linearize(eq, iterate, true);
+        stats.linearIterations += solveLinear(eq, control, -residual_, delta);
+        ++stats.iterations;
+        const Points before = iterate.v;
+        bool moved = lineSearch(eq, delta, iterate, current, stats);
+        if (!moved && !compressed_.empty()) {  // the exact matrix's direction failed: eq. 17's
+            compressed_.clear();
+            stats.linearIterations += solveLinear(eq, control, -residual_, delta);
+            moved = lineSearch(eq, delta, iterate, current, stats);
+        }
+        if (!moved) break;
+        stats.correction = (iterate.v - before).cwiseAbs().maxCoeff();
+        stats.residual = evaluate(eq, iterate);
+    }
+    stats.converged = stats.correction <= control.tolerance;
+    return std::isfinite(current) && iterate.x.allFinite() && iterate.v.allFinite();
+}
+
+}  // namespace cloth
