@@ -45,6 +45,11 @@ struct FlagTimings {  // milliseconds, summed since the last reset
     double forces = 0, solve = 0, air = 0, collision = 0;
 };
 
+struct SolverCounts {  // the solver's iterations (StepResult), summed over the steps since construction
+    long long iterations = 0, linearIterations = 0;
+    int maxIterations = 0;  // the most in one step
+};
+
 class Flag {
 public:
     // Throws ConfigError when the settings cannot make a cloth (the message names the field).
@@ -57,6 +62,10 @@ public:
     const cloth::Model& model() const { return model_; }
     const cloth::State& state() const { return state_; }
     cloth::State& mutableState() { return state_; }  // tests inject faults through this
+    // Moves the flag to `state` (a reference run's, for a restart) with the pins on `carrier`; the
+    // solver forgets its history.
+    void restart(const cloth::State& state, const RigidFrame& carrier);
+    const SolverCounts& solverCounts() const { return counts_; }
     const std::vector<cloth::Pin>& pins() const { return pins_; }
     const FlagTimings& timings() const { return timings_; }
     void resetTimings() { timings_ = {}; }
@@ -88,6 +97,7 @@ private:
     cloth::Points airForce_;
     std::vector<cloth::Mat3> airJacobian_, airDamping_;
     FlagTimings timings_;
+    SolverCounts counts_;
     long long steps_ = 0;
     int failures_ = 0;
     std::string firstFailure_;

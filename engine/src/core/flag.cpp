@@ -2,6 +2,7 @@
 
 #include "cloth/presets.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -71,6 +72,7 @@ Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& c
 
 void Flag::resetToRest(const RigidFrame& carrier) {
     state_ = cloth::State::atRest(model_);
+    solver_->resetHistory();
     // No real flag is perfectly flat; a flat sheet pinned along an edge is an (unstable)
     // equilibrium it would never leave. A millimetre-scale ripple across the plane breaks the
     // symmetry the same way every time.
@@ -84,6 +86,12 @@ void Flag::resetToRest(const RigidFrame& carrier) {
         state_.x.col(i) = w;
         state_.v.col(i) = carrier.velocityAt(w);
     }
+    updatePins(carrier);
+}
+
+void Flag::restart(const cloth::State& state, const RigidFrame& carrier) {
+    state_ = state;
+    solver_->resetHistory();
     updatePins(carrier);
 }
 
@@ -110,7 +118,9 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
     cloth::StepInput input;
     input.h = h;
     input.pins = pins_;
-    if (air_) {
+    if (air_ && solver_->couplesAir()) {
+        input.air = &airParams_;  // the solver evaluates the air at every iterate (its time is in forces)
+    } else if (air_) {
         const auto t0 = Clock::now();
         airForce_.setZero(3, model_.particleCount());
         cloth::addAirForces(model_, state_, airParams_, airForce_, implicitAir_ ? &airJacobian_ : nullptr,
@@ -126,6 +136,9 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
     timings_.forces += solver_->profile().forcesMs;
     timings_.solve += solver_->profile().solveMs + solver_->profile().integrateMs;
     ++steps_;
+    counts_.iterations += r.iterations;
+    counts_.linearIterations += r.linearIterations;
+    counts_.maxIterations = std::max(counts_.maxIterations, r.iterations);
     if (r.status != cloth::StepStatus::Ok) {
         if (failures_++ == 0)
             firstFailure_ = "cloth step " + std::to_string(steps_) + ": " +
@@ -161,6 +174,7 @@ void Flag::tick(double h, const RigidFrame& carrier, const std::vector<cloth::Co
     if (substeps_ > 1) before = state_;
     if (runSubsteps(substeps_)) return;
     if (before) state_ = *before;
+    solver_->resetHistory();
     pins_ = start;
     if (runSubsteps(8 * substeps_)) return;
     resetToRest(carrier);
