@@ -17,6 +17,7 @@
 #include "cloth/collision.h"
 #include "cloth/solver.h"
 #include "engine/scene.h"
+#include "engine/trace.h"
 
 namespace engine {
 
@@ -59,6 +60,10 @@ public:
     cloth::State& mutableState() { return state_; }  // tests inject faults through this
     const std::vector<cloth::Pin>& pins() const { return pins_; }
     const FlagTimings& timings() const { return timings_; }
+    // Each step's phases go to trace as events too (null: none), named as the runtime's profile
+    // phases. The solver reports how long its forces and its solve took, not when: they are
+    // placed at the start and at the end of the step's measured span, in the order they run.
+    void setTrace(Trace* trace);
     void resetTimings() { timings_ = {}; }
     long long steps() const { return steps_; }
     int failures() const { return failures_; }
@@ -69,6 +74,7 @@ public:
 private:
     void updatePins(const RigidFrame& carrier);
     bool stepOnce(double h, const std::vector<cloth::Collider>& colliders);
+    void traceStep(Trace::Clock::time_point begin, Trace::Clock::time_point end) const;
     void resetToRest(const RigidFrame& carrier);
 
     cloth::Model model_;
@@ -88,6 +94,10 @@ private:
     cloth::Points airForce_;
     std::vector<cloth::Mat3> airJacobian_, airDamping_;
     FlagTimings timings_;
+    Trace* trace_ = nullptr;
+    struct TraceNames {
+        int air = -1, forces = -1, solve = -1, collision = -1;
+    } traceNames_;
     long long steps_ = 0;
     int failures_ = 0;
     std::string firstFailure_;
