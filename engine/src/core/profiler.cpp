@@ -59,10 +59,12 @@ void Profiler::enterZone(const char* name) {
 
 void Profiler::leaveZone() {
     if (zones_.empty()) return;
-    const Clock::time_point end = Clock::now();
     const OpenZone& z = zones_.back();
-    if (z.phase >= 0) add(z.phase, ms(end - z.t0));
-    if (trace_) trace_->complete(trace_->staticNameId(z.name), Trace::Category::Zone, z.t0, end);
+    if (z.phase >= 0 || trace_) {  // a deeper zone only ends an event of a trace
+        const Clock::time_point end = Clock::now();
+        if (z.phase >= 0) add(z.phase, ms(end - z.t0));
+        if (trace_) trace_->complete(trace_->staticNameId(z.name), Trace::Category::Zone, z.t0, end);
+    }
     zones_.pop_back();
 }
 
