@@ -24,6 +24,7 @@ constexpr double kEps = 1e-3;
 struct Event {
     std::string name, cat;
     double ts = 0, dur = 0;  // microseconds
+    int frame = -1;          // a frame's args.frame
     double end() const { return ts + dur; }
     bool inside(const Event& o) const { return ts >= o.ts - kEps && end() <= o.end() + kEps; }
 };
@@ -38,6 +39,7 @@ ParsedTrace parseTrace(const nlohmann::json& j) {
         if (e.at("ph") != "X") continue;
         Event ev{e.at("name").get<std::string>(), e.at("cat").get<std::string>(), e.at("ts").get<double>(),
                  e.at("dur").get<double>()};
+        if (e.contains("args") && e["args"].contains("frame")) ev.frame = e["args"]["frame"].get<int>();
         if (ev.cat == "frame") t.frames.push_back(ev);
         else if (ev.cat == "phase") t.phases.push_back(ev);
         else if (ev.cat == "bullet") t.zones.push_back(ev);
@@ -57,12 +59,15 @@ int frameOf(const ParsedTrace& t, const Event& e) {
     return -1;
 }
 
-// What breaks the nesting: frames out of order or overlapping, a phase outside every frame or
+// What breaks the nesting: frames out of order (their index against their time) or overlapping, a phase outside every frame or
 // overlapping another phase, a zone outside every "bullet" phase or across another zone's end.
 std::vector<std::string> nestingProblems(const ParsedTrace& t) {
     std::vector<std::string> out;
-    for (std::size_t f = 0; f + 1 < t.frames.size(); ++f)
-        if (t.frames[f].end() > t.frames[f + 1].ts + kEps) out.push_back("frames " + std::to_string(f) + " and next overlap");
+    for (std::size_t f = 0; f < t.frames.size(); ++f) {
+        if (t.frames[f].frame != int(f)) out.push_back("frame " + std::to_string(f) + " in time is not frame " + std::to_string(t.frames[f].frame));
+        if (f + 1 < t.frames.size() && t.frames[f].end() > t.frames[f + 1].ts + kEps)
+            out.push_back("frames " + std::to_string(f) + " and next overlap");
+    }
     for (std::size_t i = 0; i < t.phases.size(); ++i) {
         if (frameOf(t, t.phases[i]) < 0) out.push_back(t.phases[i].name + " outside every frame");
         if (i + 1 < t.phases.size() && t.phases[i].end() > t.phases[i + 1].ts + kEps)
@@ -170,7 +175,7 @@ TEST(RuntimeTrace, TheChecksFindABrokenTrace) {
     // one way at a time.
     const auto make = [] {
         ParsedTrace t;
-        t.frames = {{"frame", "frame", 0, 100}, {"frame", "frame", 100, 50}};
+        t.frames = {{"frame", "frame", 0, 100, 0}, {"frame", "frame", 100, 50, 1}};
         t.phases = {{"bullet", "phase", 10, 40}, {"cloth_solve", "phase", 60, 30}};
         t.zones = {{"internalSingleStepSimulation", "bullet", 11, 30}, {"solveConstraints", "bullet", 12, 5}};
         return t;
@@ -181,6 +186,9 @@ TEST(RuntimeTrace, TheChecksFindABrokenTrace) {
     EXPECT_FALSE(nestingProblems(t).empty());
     t = make();
     t.frames[0].dur = 101;  // into the next frame
+    EXPECT_FALSE(nestingProblems(t).empty());
+    t = make();
+    std::swap(t.frames[0].frame, t.frames[1].frame);  // indices out of time order
     EXPECT_FALSE(nestingProblems(t).empty());
     t = make();
     t.zones[1].ts = 38;  // across its parent zone's end
