@@ -64,7 +64,8 @@ int frameOf(const ParsedTrace& t, const Event& e) {
 std::vector<std::string> nestingProblems(const ParsedTrace& t) {
     std::vector<std::string> out;
     for (std::size_t f = 0; f < t.frames.size(); ++f) {
-        if (t.frames[f].frame != int(f)) out.push_back("frame " + std::to_string(f) + " in time is not frame " + std::to_string(t.frames[f].frame));
+        if (t.frames[f].frame != int(f))
+            out.push_back("frame " + std::to_string(f) + " in time is frame " + std::to_string(t.frames[f].frame));
         if (f + 1 < t.frames.size() && t.frames[f].end() > t.frames[f + 1].ts + kEps)
             out.push_back("frames " + std::to_string(f) + " and next overlap");
     }
