@@ -36,6 +36,9 @@ int main(int argc, char** argv) {
     app.add_flag("--force", o.force, "allow writing into an existing output folder");
     app.add_option("--record-input", o.recordInput,
                    "write the actions actually applied as a script that replays to identical frames");
+    app.add_option("--trace", o.tracePath,
+                   "write the run as a Chrome Trace Event JSON file (frames, phases, Bullet's zones) "
+                   "for Perfetto UI (ui.perfetto.dev) or chrome://tracing");
     app.add_option("--solver", solver, "override the flag's solver, e.g. multigrid:cycles=2 (solvers and keys below)");
     app.add_option("--constraints", constraints,
                    "override the flag's constraints, e.g. tether=0.02,stretch_limit=0.1 (\"\" for none; keys below)")

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +11,7 @@
 
 #include "engine/assets/model_loader.h"
 #include "engine/config_error.h"
+#include "engine/physics/vehicle_world.h"
 
 using namespace engine;
 namespace fs = std::filesystem;
@@ -159,4 +162,66 @@ TEST(ModelLoader, AYUpAndAZUpModelSitOnTheChassisAlike) {
     placeModel(small, half, moved);
     EXPECT_NEAR(small.boundsMin[1], 0.5 * yUp.boundsMin[1] + 0.25, 1e-5);
     EXPECT_NEAR(small.boundsMax[2], 0.5 * yUp.boundsMax[2] - 0.5, 1e-5);
+}
+
+namespace {
+
+// The glTF test models (tests/assets/models), each a body box with a cabin box on it, described
+// here as y-up models in metres with +z forward:
+//   car_y_up.gltf  y-up, metres: body x +-0.9, y 0..0.5, z +-2.0; cabin x +-0.7, y 0.5..0.8,
+//                  z -1.5..0.3 (towards the rear). Its height limits the fit.
+//   van_z_up.gltf  z-up, centimetres, forward along -y (a point (x, y, z) here is (x, -z, y) * 100
+//                  in the file): body x +-1.0, y 0..0.5, z +-2.6; cabin x +-0.8, y 0.5..0.8,
+//                  z -0.5..1.5 (towards the front). Long and low: its length limits the fit.
+struct TwoBoxModel {
+    const char* file;
+    char up;
+    double halfWidth, halfLength, bodyTop, roof, cabinRear, cabinFront;
+};
+
+std::string testModel(const char* file) { return std::string(FLAGSIM_TEST_DATA_DIR) + "/models/" + file; }
+
+// The highest points of the placed model: the cabin's roof (z range), as [min, max].
+std::array<float, 2> roofLength(const LoadedModel& m) {
+    std::array<float, 2> z = {INFINITY, -INFINITY};
+    for (const MeshData& part : m.parts)
+        for (std::size_t i = 0; i + 2 < part.positions.size(); i += 3)
+            if (part.positions[i + 1] > m.boundsMax[1] - 1e-4f)
+                z = {std::min(z[0], part.positions[i + 2]), std::max(z[1], part.positions[i + 2])};
+    return z;
+}
+
+}  // namespace
+
+TEST(ModelLoader, AYUpAndAZUpGltfModelSitOnTheChassisWheelsPlane) {
+    // The chassis box the physics drives (its half extents, centred on the body's frame): each
+    // model, turned by its up axis, fits inside it by one uniform scale, centred across and along,
+    // and its bounding box's underside lands on the box's underside, the plane the wheels carry.
+    const Eigen::Vector3d he = VehicleParams{}.halfExtents;
+    const float half[3] = {float(he.x()), float(he.y()), float(he.z())};
+    const TwoBoxModel models[] = {{"car_y_up.gltf", 'y', 0.9, 2.0, 0.5, 0.8, -1.5, 0.3},
+                                  {"van_z_up.gltf", 'z', 1.0, 2.6, 0.5, 0.8, -0.5, 1.5}};
+    for (const TwoBoxModel& t : models) {
+        SCOPED_TRACE(t.file);
+        LoadedModel m = loadModel(testModel(t.file));
+        ModelPlacement p;
+        p.up = t.up;
+        placeModel(m, half, p);
+        const double s = std::min({he.x() / t.halfWidth, he.y() / (t.roof / 2), he.z() / t.halfLength});
+        EXPECT_NEAR(m.boundsMin[1], -he.y(), 1e-5) << "the underside is on the chassis' underside";
+        EXPECT_NEAR(m.boundsMax[1], -he.y() + s * t.roof, 1e-5);
+        EXPECT_NEAR(m.boundsMin[0], -s * t.halfWidth, 1e-5);
+        EXPECT_NEAR(m.boundsMax[0], s * t.halfWidth, 1e-5);
+        EXPECT_NEAR(m.boundsMin[2], -s * t.halfLength, 1e-5);
+        EXPECT_NEAR(m.boundsMax[2], s * t.halfLength, 1e-5);
+        for (int k = 0; k < 3; ++k) EXPECT_LE(m.boundsMax[k], half[k] + 1e-5f) << k;
+        // Up is up and forward is forward: the cabin's roof on top, where the model has its cabin.
+        const std::array<float, 2> roof = roofLength(m);
+        EXPECT_NEAR(roof[0], s * t.cabinRear, 1e-5);
+        EXPECT_NEAR(roof[1], s * t.cabinFront, 1e-5);
+    }
+    // The z-up van placed as if it were y-up stands on its tail: its length is the height now.
+    LoadedModel wrong = loadModel(testModel("van_z_up.gltf"));
+    placeModel(wrong, half, ModelPlacement{});
+    EXPECT_LT(wrong.boundsMax[2] - wrong.boundsMin[2], 0.5f * half[2]);
 }

@@ -105,6 +105,12 @@ TEST(Scene, MalformedScenesNameFileFieldAndValue) {
         {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"scale": "NaN"}}})", "vehicle.model_transform.scale = \"NaN\": must be a number"},
         {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"up": "x"}}})", "vehicle.model_transform.up = \"x\": must be one of: y, z"},
         {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"offset": [0, 1]}}})", "vehicle.model_transform.offset = [0,1]: must be an array of 3"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"scale": -2}}})", "vehicle.model_transform.scale = -2: must be in"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"yaw": "NaN"}}})", "vehicle.model_transform.yaw = \"NaN\": must be a number"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"yaw": 400}}})", "vehicle.model_transform.yaw = 400: must be in"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"offset": [0, "NaN", 0]}}})", "vehicle.model_transform.offset[1] = \"NaN\": must be a number"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"offset": [0, 0, 1000]}}})", "vehicle.model_transform.offset[2] = 1000: must be in"},
+        {R"({"subsystems": ["vehicle"], "vehicle": {"model_transform": {"size": 2}}})", "vehicle.model_transform.size = 2: unknown field"},
         {"{" + base + R"(, "script": "../scripts/none.json"})", "script = \"../scripts/none.json\": file not found"},
         // Found by the fuzzer: a path longer than the OS allows made std::filesystem throw.
         {"{" + base + R"(, "script": ")" + std::string(5000, 'x') + R"("})", "file not found"},

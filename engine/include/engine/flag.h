@@ -17,6 +17,7 @@
 #include "cloth/collision.h"
 #include "cloth/solver.h"
 #include "engine/scene.h"
+#include "engine/trace.h"
 
 namespace engine {
 
@@ -68,6 +69,10 @@ public:
     const SolverCounts& solverCounts() const { return counts_; }
     const std::vector<cloth::Pin>& pins() const { return pins_; }
     const FlagTimings& timings() const { return timings_; }
+    // Each step's phases go to trace as events too (null: none), named as the runtime's profile
+    // phases. The solver reports how long its forces and its solve took, not when: they are
+    // placed at the start and at the end of the step's measured span, in the order they run.
+    void setTrace(Trace* trace);
     void resetTimings() { timings_ = {}; }
     long long steps() const { return steps_; }
     int failures() const { return failures_; }
@@ -78,6 +83,7 @@ public:
 private:
     void updatePins(const RigidFrame& carrier);
     bool stepOnce(double h, const std::vector<cloth::Collider>& colliders);
+    void traceStep(Trace::Clock::time_point begin, Trace::Clock::time_point end) const;
     void resetToRest(const RigidFrame& carrier);
 
     cloth::Model model_;
@@ -98,6 +104,10 @@ private:
     std::vector<cloth::Mat3> airJacobian_, airDamping_;
     FlagTimings timings_;
     SolverCounts counts_;
+    Trace* trace_ = nullptr;
+    struct TraceNames {
+        int air = -1, forces = -1, solve = -1, collision = -1;
+    } traceNames_;
     long long steps_ = 0;
     int failures_ = 0;
     std::string firstFailure_;

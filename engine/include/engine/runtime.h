@@ -34,6 +34,7 @@ struct RunOptions {
     bool force = false;
     bool noProgress = false;
     std::string recordInput;
+    std::string tracePath;      // empty: no trace; else a Chrome Trace Event JSON of the run
     int width = 0, height = 0;  // 0: the scene's
     bool readback = false;      // read every frame back even in a window without recording
     std::string assetsDir = defaultAssetsDir();
@@ -59,8 +60,8 @@ public:
 
     // Runs one frame. False when the run is over (frame count reached, window closed, SIGINT).
     bool frame();
-    // Flushes writers, writes profile.csv and summary.json, the recorded input. Returns the
-    // process exit code (0, or 1 when a writer failed).
+    // Flushes writers, writes profile.csv and summary.json, the recorded input, the trace.
+    // Returns the process exit code (0, or 1 when a writer failed).
     int finish();
 
     int frameIndex() const;

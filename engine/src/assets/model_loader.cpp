@@ -140,6 +140,15 @@ void placeModel(LoadedModel& model, const float half[3], const ModelPlacement& p
         rotate(model, R);
     }
     fitModel(model, half);
+    // Seated on the chassis: a model whose height does not limit the fit (a long, low one) would
+    // float in the middle of the box; it goes down onto the box's underside, where a model that
+    // fills the box's height already is (ours: untouched, to the bit).
+    const float drop = model.boundsMin[1] + half[1];
+    if (drop > 1e-5f * half[1]) {
+        for (MeshData& part : model.parts)
+            for (std::size_t i = 1; i < part.positions.size(); i += 3) part.positions[i] -= drop;
+        updateBounds(model);
+    }
     if (p.scale == 1 && p.offset == std::array<double, 3>{0, 0, 0}) return;
     for (MeshData& part : model.parts)
         for (std::size_t i = 0; i < part.positions.size(); ++i)

@@ -113,8 +113,29 @@ cloth::Collider Flag::poleCollider(const RigidFrame& carrier) const {
     return c;
 }
 
+void Flag::setTrace(Trace* trace) {
+    trace_ = trace;
+    if (trace) traceNames_ = {trace->nameId("air"), trace->nameId("cloth_forces"),
+                              trace->nameId("cloth_solve"), trace->nameId("collision")};
+}
+
+// The forces from the step's start, the solve (with the integration after it) up to its end;
+// neither leaves the span, and they never overlap (the solver timed them inside it, one after
+// the other).
+void Flag::traceStep(Trace::Clock::time_point begin, Trace::Clock::time_point end) const {
+    using Clock = Trace::Clock;
+    auto span = [](double ms) {
+        return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(ms));
+    };
+    const cloth::StepProfile& p = solver_->profile();
+    const Clock::time_point forcesEnd = std::min(begin + span(p.forcesMs), end);
+    const Clock::time_point solveBegin = std::max(end - span(p.solveMs + p.integrateMs), forcesEnd);
+    trace_->complete(traceNames_.forces, Trace::Category::Phase, begin, forcesEnd);
+    trace_->complete(traceNames_.solve, Trace::Category::Phase, solveBegin, end);
+}
+
 bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
-    using Clock = std::chrono::steady_clock;
+    using Clock = Trace::Clock;
     cloth::StepInput input;
     input.h = h;
     input.pins = pins_;
@@ -130,9 +151,13 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
             cloth::airDamping(airJacobian_, airDamping_);
             input.damping = &airDamping_;
         }
-        timings_.air += Profiler::msSince(t0);
+        const auto t1 = Clock::now();
+        timings_.air += Profiler::ms(t1 - t0);
+        if (trace_) trace_->complete(traceNames_.air, Trace::Category::Phase, t0, t1);
     }
+    const auto stepBegin = trace_ ? Clock::now() : Clock::time_point{};
     const cloth::StepResult r = solver_->step(model_, env_, state_, input);
+    if (trace_) traceStep(stepBegin, Clock::now());
     timings_.forces += solver_->profile().forcesMs;
     timings_.solve += solver_->profile().solveMs + solver_->profile().integrateMs;
     ++steps_;
@@ -150,7 +175,9 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
         const auto t0 = Clock::now();
         cloth::resolveCollisions(colliders, thickness_, &collisionSkip_, state_, &solver_->threadPool(),
                                  &collisionWorkspace_);
-        timings_.collision += Profiler::msSince(t0);
+        const auto t1 = Clock::now();
+        timings_.collision += Profiler::ms(t1 - t0);
+        if (trace_) trace_->complete(traceNames_.collision, Trace::Category::Phase, t0, t1);
     }
     return true;
 }

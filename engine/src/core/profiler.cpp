@@ -23,27 +23,48 @@ int Profiler::phaseId(const std::string& name) const {
     return it == names_.end() ? -1 : static_cast<int>(it - names_.begin());
 }
 
+void Profiler::setTrace(Trace* trace) {
+    trace_ = trace;
+    traceNames_.clear();
+    traceFrameName_ = trace ? trace->nameId("frame") : -1;
+}
+
+void Profiler::tracePhase(int phase, Clock::time_point t0, Clock::time_point t1) {
+    if (traceNames_.size() < names_.size()) traceNames_.resize(names_.size(), -1);
+    if (traceNames_[phase] < 0) traceNames_[phase] = trace_->nameId(names_[phase]);
+    trace_->complete(traceNames_[phase], Trace::Category::Phase, t0, t1);
+}
+
 void Profiler::beginFrame() {
     std::fill(current_.begin(), current_.end(), 0.0);
     frameStart_ = Clock::now();
 }
 
 void Profiler::endFrame() {
+    const Clock::time_point end = Clock::now();
     std::vector<double> row = current_;
-    row.push_back(msSince(frameStart_));
+    row.push_back(ms(end - frameStart_));
+    if (trace_)
+        trace_->complete(traceFrameName_, Trace::Category::Frame, frameStart_, end, static_cast<int>(rows_.size()));
     rows_.push_back(std::move(row));
 }
 
-// Only the second level of Bullet's zones is kept: the first (internalSingleStepSimulation) is
-// the whole tick, which the "bullet" phase already times, and deeper levels repeat their parents.
+// Only the second level of Bullet's zones is kept as columns: the first
+// (internalSingleStepSimulation) is the whole tick, which the "bullet" phase already times, and
+// deeper levels repeat their parents. A trace gets every level, named by Bullet.
 void Profiler::enterZone(const char* name) {
     const int phase = zones_.size() == 1 ? addPhase(std::string("bullet:") + name) : -1;
-    zones_.push_back({phase, Clock::now()});
+    zones_.push_back({phase, Clock::now(), name});
 }
 
 void Profiler::leaveZone() {
     if (zones_.empty()) return;
-    if (zones_.back().phase >= 0) add(zones_.back().phase, msSince(zones_.back().t0));
+    const OpenZone& z = zones_.back();
+    if (z.phase >= 0 || trace_) {  // a deeper zone only ends an event of a trace
+        const Clock::time_point end = Clock::now();
+        if (z.phase >= 0) add(z.phase, ms(end - z.t0));
+        if (trace_) trace_->complete(trace_->staticNameId(z.name), Trace::Category::Zone, z.t0, end);
+    }
     zones_.pop_back();
 }
 

@@ -48,6 +48,7 @@ bool stopRequested() { return gStop.load(); }
 struct Runtime::Impl {
     SceneConfig scene;
     RunOptions opt;
+    std::unique_ptr<Trace> trace;  // --trace; outlives the profiler and the vehicle (its teardown has zones)
     Profiler profiler;
     struct Phases {
         int input = -1, bullet = -1, air = -1, clothForces = -1, clothSolve = -1,
@@ -148,6 +149,17 @@ void prepareOutDir(const RunOptions& options) {
     if (ec) throw ConfigError("--out " + options.outDir + ": cannot create folder: " + ec.message());
 }
 
+// Refuses a --trace path that cannot be written at the end of the run: a folder, or a file in a
+// folder that does not exist.
+void checkTracePath(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw ConfigError("--trace " + path + ": is a folder, not a file");
+    const fs::path folder = fs::path(path).parent_path();
+    if (!folder.empty() && !fs::is_directory(folder, ec))
+        throw ConfigError("--trace " + path + ": folder " + folder.string() + " does not exist");
+}
+
 }  // namespace
 
 // Applies the command line to the scene (frame size, window, recording) and rejects what cannot run.
@@ -230,6 +242,7 @@ void Runtime::Impl::buildFlag() {
         mount.trailing = Eigen::Vector3d::UnitX();
     }
     flag = std::make_unique<Flag>(s, mount, pose);
+    flag->setTrace(trace.get());
     if (s.subsystems & kCollision) {
         cloth::Collider ground;  // the ground plane, y = 0
         ground.shape = cloth::Collider::Shape::Plane;
@@ -258,6 +271,11 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     m.applyOptions();
     // Output folder: never silently overwritten.
     if (!options.outDir.empty()) prepareOutDir(options);
+    if (!options.tracePath.empty()) {
+        checkTracePath(options.tracePath);
+        m.trace = std::make_unique<Trace>();
+        m.profiler.setTrace(m.trace.get());
+    }
     m.planFrames();
     m.addPhases();
     if (m.scene.subsystems & kVehicle) m.buildVehicle();
@@ -363,6 +381,13 @@ int Runtime::finish() {
         if (!m.profiler.writeCsv(m.opt.outDir + "/profile.csv", &error) ||
             !writeSummary(m.opt.outDir + "/summary.json", f, m.profiler, &error)) {
             std::fprintf(stderr, "flagsim: error: %s\n", error.c_str());
+            code = 1;
+        }
+    }
+    if (m.trace) {
+        std::string error;
+        if (!m.trace->write(m.opt.tracePath, &error)) {
+            std::fprintf(stderr, "flagsim: error: --trace %s\n", error.c_str());
             code = 1;
         }
     }

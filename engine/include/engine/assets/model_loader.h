@@ -30,8 +30,9 @@ LoadedModel loadModel(const std::string& path, const ModelLimits& limits = {});
 void fitModel(LoadedModel& model, const float halfExtents[3]);
 
 // The scene's placement: the model turned so that its up axis is +y and by its yaw, fitted onto
-// `halfExtents` (fitModel), then scaled about the centre and offset. The default placement is
-// fitModel alone, to the bit.
+// `halfExtents` (fitModel) and seated on the box's underside (a model lower than the box no longer
+// floats in its middle), then scaled about the centre and offset. For a model whose height fills
+// the box, the default placement is fitModel alone, to the bit.
 void placeModel(LoadedModel& model, const float halfExtents[3], const ModelPlacement& placement);
 
 }  // namespace engine

@@ -1,7 +1,8 @@
 #pragma once
 // How a scene places its vehicle model on the chassis, before the chassis pose: the model's up
-// axis and heading, then the fit onto the chassis box (uniform scale, centred), then a scale and an
-// offset of the scene's own. The defaults place a +y-up, +z-forward model exactly as the fit alone.
+// axis and heading, then the fit onto the chassis box (uniform scale, centred, then seated on the
+// box's underside), then a scale and an offset of the scene's own. The defaults place a +y-up,
+// +z-forward model exactly as the fit alone.
 
 #include <array>
 
