@@ -16,11 +16,14 @@
 //   max_stretch, p99_stretch over the run; energy_growth: max (E - E0) / (m g height)
 //   stable, fail_step
 // Part 2 (extreme.csv): the demo's flag (engine::Flag with assets/scenes/flag_vehicle.json, or the
-// scene given by --extreme-scene) on a
-// carrier driven through extreme motions (tools/study/extreme_cases.h), per solver configuration:
-// stable or not. extreme_cases.csv: per case, the largest speed and acceleration its carrier gives
-// the flag's pinned column; the study stops before any work when a case moves no pin and has no
-// wind (it would test nothing).
+// scene given by --extreme-scene) and the stiff scene's flag on a carrier driven through extreme
+// motions (tools/study/extreme_cases.h), per configuration, judged against the flag's fine-step
+// reference (`reference`, `stiff_reference`: tools/study/extreme_runs.h): stable or not, stretch,
+// the kinetic energy in the carrier's frame (mean, last second, per 0.5 s window), and the
+// trajectory error over 0.25 s horizons restarted from the reference's states.
+// extreme_cases.csv: per case, the largest speed and acceleration its carrier gives the flag's
+// pinned column; the study stops before any work when a case moves no pin and has no wind (it
+// would test nothing).
 
 #include <algorithm>
 #include <chrono>
@@ -46,6 +49,7 @@
 #include "engine/scene.h"
 #include "peer/bullet_cloth.h"
 #include "extreme_cases.h"
+#include "extreme_runs.h"
 
 using cloth::Points;
 using cloth::State;
@@ -431,9 +435,12 @@ vehicle path, a scan over stiffness and time step, and the demo's flag in six ex
                        e.g. "multigrid;multigrid:cycles=1;exact" (family = the name before ':')
   --no-scan            skip the stiffness and time-step scan
   --no-extremes        skip the extreme cases (extreme.csv)
+  --no-trajectories    no traj_error in extreme.csv (no run against each case's reference)
   --extremes-only      only the extreme cases
   --configs LIST       comma-separated subset of the extreme-case configurations (by name)
   --cases LIST         comma-separated subset of the extreme cases (by name, e.g. spin_5radps)
+  --stiff-configs L    more configurations of the stiff flag: NAME=SPEC@HZ, ';'-separated
+                       (e.g. "bdf2_90=newton:integrator=bdf2@90"); pick them with --configs
   --extreme-sizes LIST flag sides for the extreme cases (default 33,65, --quick 33; the flag keeps
                        its aspect)
   --extreme-scene S    whose flag the extreme cases run (a scene name or a .json path; default
@@ -501,12 +508,97 @@ bool extremeCasesDriveTheFlag(const engine::SceneConfig& demo, const std::string
     return idle.empty();
 }
 
+// An extreme-case configuration: a solver on one of the two flags, at a physics rate; or the
+// fine-step reference of that flag (referenceFactor > 0: the reference's substeps times it).
+struct Variant {
+    std::string name, solver;  // "solver spec|constraints" (constraints.h; no '|': none)
+    int substeps;
+    int implicitAir = -1;  // -1: as the scene says, else 0 / 1
+    bool stiff = false;    // the stiff scene's flag, else the demo's
+    int hz = 0;            // physics rate (0: the scene's)
+    int referenceFactor = 0;
+};
+
+// The reference's substeps per tick at 33 per side (extreme_runs.h scales them with the size and
+// the mass): the demo's soft flag, and the stiff flag (k = 1e4).
+constexpr int kDemoReferenceSubsteps = 24, kStiffReferenceSubsteps = 160;
+
+// The extreme cases' part of the study: each case x size x configuration a row of extreme.csv,
+// the configurations judged against their flag's reference (computed once per case, size and flag).
+class ExtremeStudy {
+public:
+    // trajectories: whether the configurations get traj_error (each a run against the reference).
+    ExtremeStudy(const engine::SceneConfig& demo, const engine::SceneConfig& stiff, bool trajectories)
+        : demo_(demo), stiff_(stiff), trajectories_(trajectories) {}
+    static const char* header() {
+        return "row,case,size,config,stable,failures,ms_per_tick,timing,max_stretch,peak_stretch,p99_stretch,"
+               "late_max_stretch,max_speed,physics_hz,ke_mean,ke_late,ke_windows,traj_error,iterations_mean,"
+               "iterations_max\n";
+    }
+    std::string row(long index, const Extreme& x, int size, const Variant& v, const char* timing) {
+        const engine::SceneConfig s = sceneOf(x, size, v);
+        const engine::PoleMount mount = extremeMount(demo_);
+        const bool needsReference = v.referenceFactor == 1 || trajectories_;
+        const study::ExtremeRun* ref = needsReference ? &reference(x, size, v.stiff) : nullptr;
+        study::ExtremeRun own;
+        const study::ExtremeRun& r = v.referenceFactor == 1 ? *ref : (own = study::runExtreme(s, mount, x, false));
+        const double traj = v.referenceFactor == 1 ? 0.0
+                            : r.stable && ref ? study::horizonError(s, mount, x, ref->states, hOf(*ref, x))
+                                              : NAN;
+        std::string windows;
+        for (double e : r.energyWindows) {
+            if (!windows.empty()) windows += ';';
+            windows += fmt(e);
+        }
+        char line[700];
+        std::snprintf(line, sizeof line, "%ld,%s,%d,%s,%d,%d,%.4g,%s,%.4g,%.4g,%.4g,%.4g,%.4g,%g,%.4g,%.4g,%s,%.4g,%.4g,%d\n",
+                      index, x.name.c_str(), size, v.name.c_str(), r.stable ? 1 : 0, r.failures, r.msPerTick, timing,
+                      r.maxStretch, r.peakStretch, r.p99Stretch, r.lateStretch, r.maxSpeed, double(s.physicsHz), r.energyMean,
+                      r.energyLate, windows.c_str(), traj, r.iterationsMean, r.iterationsMax);
+        return line;
+    }
+
+private:
+    static std::string fmt(double v) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.4g", v);
+        return b;
+    }
+    static double hOf(const study::ExtremeRun& ref, const Extreme& x) { return x.duration / double(ref.states.size() - 1); }
+    engine::SceneConfig sceneOf(const Extreme& x, int size, const Variant& v) const {
+        engine::SceneConfig s = extremeScene(v.stiff ? stiff_ : demo_, x, size);
+        if (v.referenceFactor > 0) {
+            const int base = v.stiff ? kStiffReferenceSubsteps : kDemoReferenceSubsteps;
+            return study::referenceScene(s, v.referenceFactor * study::referenceSubsteps(base, size, x));
+        }
+        s.flag.solver = configOf(v.solver.substr(0, v.solver.find('|')));
+        s.flag.constraints = constraintsOf(v.solver);
+        s.flag.substeps = v.substeps;
+        if (v.implicitAir >= 0) s.flag.implicitAir = v.implicitAir == 1;
+        if (v.hz > 0) s.physicsHz = v.hz;
+        return s;
+    }
+    const study::ExtremeRun& reference(const Extreme& x, int size, bool stiff) {
+        const std::string key = x.name + "/" + std::to_string(size) + (stiff ? "/stiff" : "/demo");
+        auto it = references_.find(key);
+        if (it == references_.end()) {
+            const Variant ref{"reference", "", 1, -1, stiff, 0, 1};
+            it = references_.emplace(key, study::runExtreme(sceneOf(x, size, ref), extremeMount(demo_), x, true)).first;
+        }
+        return it->second;
+    }
+    const engine::SceneConfig& demo_;
+    const engine::SceneConfig& stiff_;
+    bool trajectories_;
+    std::map<std::string, study::ExtremeRun> references_;
+};
+
 int main(int argc, char** argv) {
-    bool quick = false, extremesOnly = false, scan = true, doExtremes = true, parallel = false;
+    bool quick = false, extremesOnly = false, scan = true, doExtremes = true, parallel = false, trajectories = true;
     int shard = 1, shards = 1;
     std::vector<int> extremeSizes;  // default: 33 and 65 (--quick: 33)
     std::string out = "out/study", exportDir, extremeScenePath = "flag_vehicle";
-    std::vector<std::string> sceneFilter, solverSpecs, variantFilter, caseFilter;
+    std::vector<std::string> sceneFilter, solverSpecs, variantFilter, caseFilter, extraStiff;
     std::vector<int> sizeOverride;
     auto usageError = [](const std::string& why) {
         std::fprintf(stderr, "cloth_study: %s\n%s", why.c_str(), kUsage);
@@ -523,10 +615,12 @@ int main(int argc, char** argv) {
         else if (a == "--extremes-only") extremesOnly = true;
         else if (a == "--no-scan") scan = false;
         else if (a == "--no-extremes") doExtremes = false;
+        else if (a == "--no-trajectories") trajectories = false;
         else if (a == "--parallel") parallel = true;
         else if (a == "--export-newton" && hasValue) exportDir = argv[++i];
         else if (a == "--configs" && hasValue) variantFilter = split(argv[++i], ',');
         else if (a == "--cases" && hasValue) caseFilter = split(argv[++i], ',');
+        else if (a == "--stiff-configs" && hasValue) extraStiff = split(argv[++i], ';');
         else if (a == "--extreme-scene" && hasValue) extremeScenePath = argv[++i];
         else if (a == "--shard" && hasValue) {
             const std::string v = argv[++i];
@@ -568,13 +662,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "cloth_study: the stiff_* configurations' scene: %s\n", e.what());
         return 1;
     }
-    struct Variant {
-        std::string name, solver;  // "solver spec|constraints" (constraints.h; no '|': none)
-        int substeps;
-        int implicitAir = -1;  // -1: as the scene says, else 0 / 1
-        const engine::SceneConfig* scene = nullptr;  // whose flag (null: the demo's)
-    };
-    std::vector<Variant> variants = {{"demo_default", demo.flag.solver.describe() + "|" + demo.flag.constraints.describe(), demo.flag.substeps},
+    std::vector<Variant> variants = {{"reference", "", 1, -1, false, 0, 1},
+                                     {"demo_default", demo.flag.solver.describe() + "|" + demo.flag.constraints.describe(), demo.flag.substeps},
                                      {"kangcho_1", "kangcho:iterations=1", 1},
                                      {"kangcho_1_substeps_4", "kangcho:iterations=1", 4},
                                      {"kangcho_1_strain_10pct", "kangcho:iterations=1|stretch_limit=0.1,stretch_passes=16", 1},
@@ -591,10 +680,31 @@ int main(int argc, char** argv) {
                                                      {"multigrid_1_cycle", "multigrid:cycles=1", 1, 1}})
             variants.push_back(v);
     if (!quick) variants.push_back({"exact", "exact", 1});
-    if (!quick)  // the stiff flag; its exact reference by multigrid to 1e-10 (Cholesky takes 0.24 s a tick at 65x65)
-        for (const Variant& v : std::vector<Variant>{{"stiff_default", stiff.flag.solver.describe() + "|" + stiff.flag.constraints.describe(), stiff.flag.substeps, -1, &stiff},
-                                                     {"stiff_exact", "exact:method=multigrid", 1, -1, &stiff}})
+    if (!quick) {  // the stiff flag: its reference (and at half the step), the scene's solver, the exact linearized step, newton
+        const std::string stiffSolver = stiff.flag.solver.describe() + "|" + stiff.flag.constraints.describe();
+        for (const Variant& v : std::vector<Variant>{
+                 {"stiff_reference", "", 1, -1, true, 0, 1},
+                 {"stiff_reference_half_step", "", 1, -1, true, 0, 2},
+                 {"stiff_default", stiffSolver, stiff.flag.substeps, -1, true},
+                 {"stiff_exact", "exact:method=multigrid", 1, -1, true},
+                 {"stiff_newton_1", "newton:max_iterations=1", 1, -1, true},
+                 {"stiff_newton_be_240", "newton", 1, -1, true, 240},
+                 {"stiff_newton_be_60", "newton", 1, -1, true, 60},
+                 {"stiff_newton_bdf2_240", "newton:integrator=bdf2", 1, -1, true, 240},
+                 {"stiff_newton_bdf2_120", "newton:integrator=bdf2", 1, -1, true, 120},
+                 {"stiff_newton_bdf2_60", "newton:integrator=bdf2", 1, -1, true, 60},
+                 {"stiff_newton_midpoint_60", "newton:integrator=midpoint", 1, -1, true, 60}})
             variants.push_back(v);
+    }
+    for (const std::string& item : extraStiff) {  // NAME=SPEC@HZ
+        const std::size_t eq = item.find('='), at = item.rfind('@');
+        cloth::SolverConfig c;
+        std::string error;
+        if (eq == std::string::npos || at == std::string::npos || at < eq ||
+            !cloth::parseSolverConfig(item.substr(eq + 1, at - eq - 1), c, &error) || std::atoi(item.c_str() + at + 1) <= 0)
+            return usageError("--stiff-configs: '" + item + "' is not NAME=SPEC@HZ with a valid solver spec " + error);
+        variants.push_back({item.substr(0, eq), item.substr(eq + 1, at - eq - 1), 1, -1, true, std::atoi(item.c_str() + at + 1)});
+    }
     std::vector<Extreme> cases = extremes();
     std::string unknown;
     if (!chooseByName(variants, variantFilter, unknown)) return usageError("--configs: unknown configuration '" + unknown + "'");
@@ -717,55 +827,16 @@ int main(int argc, char** argv) {
     // Part 2: the demo's flag through extreme carrier motions.
     std::ofstream ext(out + "/extreme.csv");
     // peak_stretch: max_stretch without the 0.25 s after a jump of the pole (teleport);
-    // p99_stretch: the largest per-tick 99th percentile; late_max_stretch: the last second.
-    ext << "row,case,size,config,stable,failures,ms_per_tick,timing,max_stretch,peak_stretch,p99_stretch,"
-           "late_max_stretch,max_speed\n";
+    // p99_stretch: the largest per-tick 99th percentile; late_max_stretch: the last second;
+    // ke_*: kinetic energy in the carrier's frame; traj_error: against the flag's reference.
+    ext << ExtremeStudy::header();
+    ExtremeStudy study(demo, stiff, trajectories);
     row = -1;
     for (const Extreme& x : cases)
         for (const int size : extremeSizes)
             for (const Variant& v : variants) {
                 ++row;
-                if (!mine()) continue;
-                engine::SceneConfig s = extremeScene(v.scene ? *v.scene : demo, x, size);
-                s.flag.solver = configOf(v.solver.substr(0, v.solver.find('|')));
-                s.flag.constraints = constraintsOf(v.solver);
-                s.flag.substeps = v.substeps;
-                if (v.implicitAir >= 0) s.flag.implicitAir = v.implicitAir == 1;
-                const engine::PoleMount mount = extremeMount(demo);
-                engine::Flag flag(s, mount, x.carrier(0));
-                const double h = 1.0 / s.physicsHz;
-                // Stable: finite and bounded throughout (positions within 100 m of the pole, speeds
-                // under 1000 m/s), no failed cloth step, and strain back under 50% over the last
-                // second: a teleport stretches the springs at the pole for a step by definition;
-                // what matters is that the flag recovers instead of blowing up.
-                double maxStretch = 0, peakStretch = 0, p99 = 0, maxSpeed = 0, lateStretch = 0;
-                std::vector<double> tickMs;
-                bool stable = true;
-                for (int k = 1; k * h <= x.duration + 1e-9; ++k) {
-                    const engine::RigidFrame c = x.carrier(k * h);
-                    const auto tick0 = Clock::now();
-                    flag.tick(h, c, {flag.poleCollider(c)});
-                    tickMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - tick0).count());
-                    const cloth::Diagnostics d = cloth::measure(flag.model(), {}, flag.state(), true);
-                    maxStretch = std::max(maxStretch, d.maxStretch);
-                    if (!(x.jumpAt >= 0 && k * h >= x.jumpAt && k * h < x.jumpAt + 0.25))
-                        peakStretch = std::max(peakStretch, d.maxStretch);
-                    p99 = std::max(p99, d.p99Stretch);
-                    if (k * h > x.duration - 1) lateStretch = std::max(lateStretch, d.maxStretch);
-                    for (cloth::Index i = 0; i < flag.model().particleCount(); ++i)
-                        maxSpeed = std::max(maxSpeed, (flag.state().v.col(i) - c.linearVelocity).norm());
-                    cloth::StabilityLimits limits;
-                    limits.maxStretch = 1e9;  // judged on the last second below
-                    if (cloth::instability(d, flag.state(), c.point(Vec3(0, mount.height, 0)), limits)) stable = false;
-                }
-                stable = stable && lateStretch < 0.5;
-                stable = stable && flag.failures() == 0;
-                std::nth_element(tickMs.begin(), tickMs.begin() + tickMs.size() / 2, tickMs.end());
-                char line[400];
-                std::snprintf(line, sizeof line, "%ld,%s,%d,%s,%d,%d,%.4g,%s,%.4g,%.4g,%.4g,%.4g,%.4g\n", row, x.name.c_str(),
-                              size, v.name.c_str(), stable ? 1 : 0, flag.failures(), tickMs[tickMs.size() / 2], timing,
-                              maxStretch, peakStretch, p99, lateStretch, maxSpeed);
-                ext << line;
+                if (mine()) ext << study.row(row, x, size, v, timing) << std::flush;
             }
     writeShardInfo(out, shard, shards, configRows, row + 1);
     std::fprintf(stderr, "\nstudy done in %.0f s: %s/error_vs_runtime.csv, %s/extreme.csv\n",

@@ -1,0 +1,56 @@
+#pragma once
+// One configuration of the demo's flag through one extreme case (extreme_cases.h), as
+// engine::Flag steps it, and what the study reports of the run; the fine-step reference that
+// the configurations are judged against; and the short-horizon trajectory error against it.
+//
+// The reference is the same flag with the same forces (springs, air, the pole's collisions,
+// pins) integrated by symplectic Euler in many substeps per tick, the air and the collisions
+// evaluated at every substep (engine::Flag's substeps). Its substeps per tick grow with the
+// flag's resolution and with 1/sqrt(mass scale), as the highest spring frequency does; the study
+// runs it at twice as many too, and the docs hold every figure to change under 5% when the step
+// halves.
+
+#include <vector>
+
+#include "cloth/model.h"
+#include "engine/flag.h"
+#include "engine/scene.h"
+#include "extreme_cases.h"
+
+namespace study {
+
+struct ExtremeRun {
+    bool stable = true;
+    int failures = 0;
+    double msPerTick = 0;  // median
+    double maxStretch = 0, peakStretch = 0, p99Stretch = 0, lateStretch = 0, maxSpeed = 0;
+    // The flag's kinetic energy in its carrier's frame, sum of m |v - v_carrier(x)|^2 / 2 (J): its
+    // mean over the run, over the last second, and over each window of kEnergyWindow seconds.
+    double energyMean = 0, energyLate = 0;
+    std::vector<double> energyWindows;
+    double iterationsMean = 0;  // the solver's iterations per step (newton: Newton iterations)
+    int iterationsMax = 0;
+    std::vector<cloth::State> states;  // the state after every tick, when kept (the reference)
+};
+
+constexpr double kEnergyWindow = 0.5;  // s
+constexpr double kHorizon = 0.25;      // s: the restarts of the trajectory error
+
+// Runs scene `s`'s flag (its solver, constraints, substeps, air) on case x's carrier.
+ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mount, const Extreme& x, bool keepStates);
+
+// Substeps per tick of the reference for a flag of `size` per side in case x: `base` at 33 per
+// side and mass scale 1, times size / 33 and 1 / sqrt(mass scale).
+int referenceSubsteps(int base, int size, const Extreme& x);
+
+// Scene `s` made the reference: symplectic Euler, `substeps` per tick, no constraints.
+engine::SceneConfig referenceScene(engine::SceneConfig s, int substeps);
+
+// The RMS distance to the reference, over horizons of kHorizon restarted from the reference's
+// states, divided by the flag's width: how far the configuration drifts from the true motion in a
+// quarter second. `reference`: a state every referenceH seconds, a whole fraction of the scene's
+// tick. NaN when a restarted run fails or the ticks do not line up.
+double horizonError(const engine::SceneConfig& s, const engine::PoleMount& mount, const Extreme& x,
+                    const std::vector<cloth::State>& reference, double referenceH);
+
+}  // namespace study
