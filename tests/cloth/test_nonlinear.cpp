@@ -136,7 +136,8 @@ std::unique_ptr<Solver> solverOf(const std::string& spec) {
     return makeSolver(c);
 }
 
-// G(v) = M (v - v0) - h f(x0 + h v, v) over the free particles' coordinates (pinned: their pin's v).
+// G(v) = M (v - v0) - h f(x(v), v) over the free particles' coordinates, x(v) = x0 + h v and the
+// pinned particles on their pins' targets with their velocities.
 struct DenseEquations {
     const Model& model;
     Environment env;
@@ -151,6 +152,7 @@ struct DenseEquations {
         for (const Pin& p : pins) s.v.col(p.particle) = p.v;
         for (std::size_t q = 0; q < free.size(); ++q) s.v.col(free[q]) = vFree.segment<3>(3 * q);
         s.x = start.x + h * s.v;
+        for (const Pin& p : pins) s.x.col(p.particle) = p.x;  // pinned: on their targets at the end
         return s;
     }
     Eigen::VectorXd operator()(const Eigen::VectorXd& vFree) const {

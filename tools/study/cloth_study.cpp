@@ -689,6 +689,8 @@ int main(int argc, char** argv) {
                  {"stiff_exact", "exact:method=multigrid", 1, -1, true},
                  {"stiff_newton_1", "newton:max_iterations=1", 1, -1, true},
                  {"stiff_newton_be_240", "newton", 1, -1, true, 240},
+                 {"stiff_newton_be_240_2", "newton:max_iterations=2", 1, -1, true, 240},
+                 {"stiff_newton_bdf2_240_3", "newton:integrator=bdf2,max_iterations=3", 1, -1, true, 240},
                  {"stiff_newton_be_60", "newton", 1, -1, true, 60},
                  {"stiff_newton_bdf2_240", "newton:integrator=bdf2", 1, -1, true, 240},
                  {"stiff_newton_bdf2_120", "newton:integrator=bdf2", 1, -1, true, 120},

@@ -98,7 +98,7 @@ bool NewtonSolve::lineSearch(const StepEquations& eq, const Points& delta, State
     Scalar best = current, bestAlpha = 0;
     for (Scalar alpha = 1; alpha >= Scalar(1) / 64; alpha /= 2) {
         trial.v = iterate.v + alpha * delta;
-        trial.x = eq.xHat + eq.k * trial.v;
+        stagePositions(eq, trial);
         stepForces(eq, trial, trialForce_, pool_.get(), &airWorkspace_);
         stepResidual(eq, trial, trialForce_, pinned_, trialResidual_);
         const Scalar m = merit(eq.model, trialResidual_);
@@ -108,7 +108,7 @@ bool NewtonSolve::lineSearch(const StepEquations& eq, const Points& delta, State
     }
     if (bestAlpha == 0) return false;
     iterate.v += bestAlpha * delta;
-    iterate.x = eq.xHat + eq.k * iterate.v;
+    stagePositions(eq, iterate);
     current = best;
     return true;
 }
@@ -120,12 +120,14 @@ bool NewtonSolve::solve(const StepEquations& eq, const NewtonControl& control, S
     pinned_.assign(n, 0);
     for (const Pin& p : eq.input.pins)
         if (p.particle >= 0 && p.particle < n) pinned_[p.particle] = 1;
-    // Iteration 1, linearized at the start (iterate.x = x_n): with r1 = x_n - xHat - k v,
+    // Iteration 1, linearized at the start (iterate.x = x_n): with r1 = x_n - x(v),
     // A dv = -R - k K r1 (K = df/dx: springs and air).
     linearize(eq, iterate, false);
     multigrid_.rebuildCoarse();  // the coarse levels stay for the later iterations of the step
     evaluate(eq, iterate);
-    const Points r1 = iterate.x - eq.xHat - eq.k * iterate.v;
+    State staged = iterate;
+    stagePositions(eq, staged);
+    const Points r1 = iterate.x - staged.x;
     Points rhs;
     springStiffnessTimes(model, iterate.x, eq.compressionRule, r1, rhs);
     if (eq.input.air) air_.apply(model, r1.data(), 1, 0, rhs.data());
@@ -135,7 +137,7 @@ bool NewtonSolve::solve(const StepEquations& eq, const NewtonControl& control, S
     Points delta;
     stats.linearIterations += solveLinear(eq, control, rhs, delta);
     iterate.v += delta;
-    iterate.x = eq.xHat + eq.k * iterate.v;
+    stagePositions(eq, iterate);
     stats.iterations = 1;
     stats.residual = evaluate(eq, iterate);
     stats.correction = delta.cwiseAbs().maxCoeff();

@@ -6,6 +6,11 @@
 
 namespace cloth {
 
+void stagePositions(const StepEquations& eq, State& at) {
+    at.x = eq.xHat + eq.k * at.v;
+    for (const auto& [i, x] : eq.pinX) at.x.col(i) = x;
+}
+
 void stepForces(const StepEquations& eq, const State& at, Points& f, ThreadPool* pool, AirWorkspace* workspace) {
     computeForces(eq.model, eq.env, at, eq.input.externalForce, f);
     if (eq.input.air) addAirForces(eq.model, at, *eq.input.air, f, nullptr, pool, workspace);

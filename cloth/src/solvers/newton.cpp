@@ -29,7 +29,7 @@ public:
         if (!newton_) newton_ = std::make_unique<NewtonSolve>(pool_);
         const NewtonSettings& s = settings<NewtonSettings>();
         auto t0 = Clock::now();
-        StepEquations eq{model, env, input, state.x, state.v, input.h, config_.compressionRule};
+        StepEquations eq{model, env, input, state.x, state.v, input.h, config_.compressionRule, {}};
         const bool bdf2 = s.integrator == NewtonSettings::Integrator::BDF2 && previous_.x.cols() == state.x.cols() &&
                           previousH_ == input.h && previousModel_ == model.id();
         if (bdf2) {
@@ -42,12 +42,14 @@ public:
         eq.k *= theta;
         State iterate = state;
         for (const Pin& p : input.pins)
-            if (p.particle >= 0 && p.particle < model.particleCount())
+            if (p.particle >= 0 && p.particle < model.particleCount()) {
                 iterate.v.col(p.particle) = state.v.col(p.particle) + theta * (p.v - state.v.col(p.particle));
+                eq.pinX.emplace_back(p.particle, state.x.col(p.particle) + theta * (p.x - state.x.col(p.particle)));
+            }
         NewtonStats stats;
         const bool ok = newton_->solve(eq, {s.maxIterations, s.tolerance, s.linearTolerance}, iterate, stats);
         if (midpoint) {  // from the stage velocity u to the end of the step
-            iterate.x = state.x + input.h * iterate.v;
+            iterate.x = state.x + (iterate.x - state.x) / theta;
             iterate.v = state.v + (iterate.v - state.v) / theta;
         }
         profile_ = {};
