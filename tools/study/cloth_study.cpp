@@ -686,6 +686,7 @@ int main(int argc, char** argv) {
                  {"stiff_reference", "", 1, -1, true, 0, 1},
                  {"stiff_reference_half_step", "", 1, -1, true, 0, 2},
                  {"stiff_default", stiffSolver, stiff.flag.substeps, -1, true},
+                 {"stiff_multigrid", "multigrid", 1, 1, true, 240},
                  {"stiff_exact", "exact:method=multigrid", 1, -1, true},
                  {"stiff_newton_1", "newton:max_iterations=1", 1, -1, true},
                  {"stiff_newton_be_240", "newton", 1, -1, true, 240},

@@ -92,6 +92,7 @@ engine::SceneConfig referenceScene(engine::SceneConfig s, int substeps) {
     s.flag.constraints = {};
     s.flag.substeps = substeps;
     s.flag.implicitAir = false;  // explicit: the air's Jacobian would go unused
+    s.physicsHz = kReferenceHz;  // its substeps are per 240 Hz tick, whatever the scene's rate
     return s;
 }
 

@@ -43,7 +43,10 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
 // side and mass scale 1, times size / 33 and 1 / sqrt(mass scale).
 int referenceSubsteps(int base, int size, const Extreme& x);
 
-// Scene `s` made the reference: symplectic Euler, `substeps` per tick, no constraints.
+// The reference ticks at this rate (states every 1/240 s), whatever the scene's.
+constexpr double kReferenceHz = 240;
+
+// Scene `s` made the reference: symplectic Euler, `substeps` per 240 Hz tick, no constraints.
 engine::SceneConfig referenceScene(engine::SceneConfig s, int substeps);
 
 // The RMS distance to the reference, over horizons of kHorizon restarted from the reference's
