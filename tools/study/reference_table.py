@@ -1,0 +1,92 @@
+#!/usr/bin/python3
+"""The extreme cases against each flag's fine-step reference, as Markdown: per flag size, every
+configuration ranked by how many of the six cases it meets the reference's bounds in, then by its
+median cost. The bounds (the stiff flag's goal):
+    stable;
+    p99 stretch  <= 1.25 x the reference's + 1 point;
+    peak stretch <= 1.5 x the reference's + 2 points;
+    kinetic energy in the carrier's frame over the last second (ke_late) between 0.5 and 2 times
+    the reference's, in the cases where the flag flutters (50 m/s, gale).
+A configuration is judged against its own flag's reference: `reference` for the demo's flag,
+`stiff_reference` for the stiff flag (configurations named stiff_*).
+
+    tools/study/reference_table.py docs/study/stiff_extreme.csv
+"""
+import csv
+import math
+import statistics
+import sys
+
+CASES = ["speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"]
+FLUTTER = ["speed_50mps", "gale_40mps"]
+
+
+def num(v):
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def reference_of(config):
+    return "stiff_reference" if config.startswith("stiff_") else "reference"
+
+
+def verdict(r, ref):
+    """What r misses of the bounds against ref: a list of words (empty: all met)."""
+    miss = []
+    if r["stable"] != "1":
+        return ["unstable"]
+    if not num(r["p99_stretch"]) <= 1.25 * num(ref["p99_stretch"]) + 0.01:
+        miss.append("p99")
+    if not num(r["peak_stretch"]) <= 1.5 * num(ref["peak_stretch"]) + 0.02:
+        miss.append("peak")
+    if r["case"] in FLUTTER:
+        ratio = num(r["ke_late"]) / num(ref["ke_late"])
+        if not 0.5 <= ratio <= 2:
+            miss.append("energy")
+    return miss
+
+
+def ranking(rows, size):
+    here = [r for r in rows if r["size"] == str(size)]
+    refs = {(r["config"], r["case"]): r for r in here if r["config"] in ("reference", "stiff_reference")}
+    out = []
+    for c in dict.fromkeys(r["config"] for r in here):
+        if c in ("reference", "stiff_reference"):
+            continue
+        by_case = {r["case"]: r for r in here if r["config"] == c}
+        judged = {x: verdict(by_case[x], refs[(reference_of(c), x)]) for x in CASES
+                  if x in by_case and (reference_of(c), x) in refs}
+        stretch = sum(1 for m in judged.values() if not ({"unstable", "p99", "peak"} & set(m)))
+        energy = [num(by_case[x]["ke_late"]) / num(refs[(reference_of(c), x)]["ke_late"]) for x in FLUTTER
+                  if x in by_case and (reference_of(c), x) in refs]
+        ms = statistics.median(num(r["ms_per_tick"]) for r in by_case.values())
+        traj = [num(r["traj_error"]) for r in by_case.values()]
+        out.append({"config": c, "judged": judged, "stretch": stretch, "energy": energy, "ms": ms,
+                    "hz": by_case[CASES[0]]["physics_hz"] if CASES[0] in by_case else "",
+                    "traj": statistics.median(traj) if all(math.isfinite(t) for t in traj) else math.nan,
+                    "all": sum(1 for m in judged.values() if not m)})
+    return sorted(out, key=lambda e: (-e["all"], -e["stretch"], e["ms"]))
+
+
+def main():
+    path = sys.argv[1] if len(sys.argv) > 1 else "out/study/extreme.csv"
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    for size in sorted({int(r["size"]) for r in rows}):
+        print(f"**{size}x{size}**: per case, the bounds a configuration misses (blank: none); cases within "
+              "the stretch bounds; ke_late / the reference's at 50 m/s and in the gale; median traj_error "
+              "(NaN when a run failed); median ms per tick at its physics rate\n")
+        print("| configuration | Hz | " + " | ".join(CASES) + " | stretch ok | energy 50 m/s, gale | traj | ms/tick |")
+        print("|---" * (len(CASES) + 6) + "|")
+        for e in ranking(rows, size):
+            cells = [", ".join(e["judged"].get(x, ["-"])) for x in CASES]
+            energy = ", ".join(f"{v:.2g}" for v in e["energy"])
+            print(f"| {e['config']} | {e['hz']} | " + " | ".join(cells) +
+                  f" | {e['stretch']}/6 | {energy} | {e['traj']:.3g} | {e['ms']:.3g} |")
+        print()
+
+
+if __name__ == "__main__":
+    main()
