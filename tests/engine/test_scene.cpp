@@ -42,17 +42,18 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     hd.description = demo.description;
     EXPECT_EQ(hd.flag.solver.describe(), demo.flag.solver.describe());
     EXPECT_EQ(hd.subsystems, demo.subsystems);
-    // The stiff scene is the same scene with the study's stiffness, adaptive multigrid and implicit air.
+    // The stiff scene is the same scene with the study's stiffness, its step converged (newton,
+    // BDF2) at 60 Hz.
     const SceneConfig stiff = loadScene(kScenes + "flag_vehicle_stiff.json");
     EXPECT_EQ(stiff.subsystems, demo.subsystems);
     EXPECT_EQ(stiff.flag.nx, demo.flag.nx);
     EXPECT_EQ(stiff.flag.stiffness.structural, 1e4);
     EXPECT_EQ(stiff.flag.stiffness.shear, 1e4);
     EXPECT_EQ(stiff.flag.stiffness.bend, 1e3);
-    EXPECT_EQ(stiff.flag.solver.name, "multigrid");
-    EXPECT_TRUE(stiff.flag.implicitAir);
+    EXPECT_EQ(stiff.flag.solver.name, "newton");
+    EXPECT_EQ(stiff.flag.solver.describe(), "newton:integrator=bdf2,compression=on");
     EXPECT_EQ(stiff.flag.mass, demo.flag.mass);
-    EXPECT_EQ(stiff.physicsHz, demo.physicsHz);
+    EXPECT_EQ(stiff.physicsHz, 60);
 }
 
 TEST(Scene, SolverKeysFollowTheSolverTable) {
