@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "bullet_zones.h"
 #include "engine/profiler.h"
 
 using namespace engine;
@@ -30,12 +31,7 @@ TEST(Profiler, CsvHasOneRowPerFrameAndZonesAddedLaterReadZeroBefore) {
         p.beginFrame();
         p.add(a, 1.5);
         if (f == 2) {  // only the second level of zones becomes a column
-            p.enterZone("internalSingleStepSimulation");
-            p.enterZone("stepSimulation");
-            p.enterZone("deeper");
-            p.leaveZone();
-            p.leaveZone();
-            p.leaveZone();
+            enterAndLeaveBulletZones(p);
         }
         p.endFrame();
     }

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "bullet_zones.h"
 #include "engine/profiler.h"
 #include "engine/trace.h"
 
@@ -84,12 +85,7 @@ TEST(Trace, ProfilerRecordsFramesPhasesAndEveryZoneLevelWithItsProfileTimes) {
     p.beginFrame();
     {
         Profiler::Scope scope(p, a);
-        p.enterZone("internalSingleStepSimulation");
-        p.enterZone("stepSimulation");
-        p.enterZone("deeper");
-        p.leaveZone();
-        p.leaveZone();
-        p.leaveZone();
+        enterAndLeaveBulletZones(p);
     }
     p.endFrame();
     const auto& ev = trace.events();
