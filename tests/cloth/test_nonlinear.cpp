@@ -312,3 +312,18 @@ TEST(NewtonStep, Bdf2AndMidpointAreSecondOrderAndBackwardEulerFirst) {
         }
     }
 }
+
+TEST(NewtonStep, TwoThreadsGiveTheBitsOfOne) {
+    AirCase c = airCase(5, 9, 0.01);
+    StepInput in;
+    in.h = 1.0 / 120;
+    in.pins = pinColumn(c.flag.model, Vec3(0.01, 0, 0), Vec3(1.2, 0, 0));
+    in.air = &c.air;
+    State one = c.flag.state, two = c.flag.state;
+    auto a = solverOf("newton:integrator=bdf2,threads=1"), b = solverOf("newton:integrator=bdf2,threads=2");
+    for (int s = 0; s < 3; ++s) {  // BDF2's history too
+        ASSERT_EQ(a->step(c.flag.model, {}, one, in).status, StepStatus::Ok);
+        ASSERT_EQ(b->step(c.flag.model, {}, two, in).status, StepStatus::Ok);
+    }
+    EXPECT_TRUE(one.x == two.x && one.v == two.v) << "max |dx| " << (one.x - two.x).cwiseAbs().maxCoeff();
+}
