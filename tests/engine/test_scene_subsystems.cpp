@@ -26,7 +26,7 @@ std::vector<std::string> expectedPhases(unsigned s) {
 }  // namespace
 
 TEST(SceneSubsystems, EveryShippedSceneProfilesExactlyItsDeclaredPhases) {
-    for (const char* name : {"flag_vehicle", "hanging_flag", "bench_cloth", "vehicle_only"}) {
+    for (const char* name : {"flag_vehicle", "flag_vehicle_stiff", "hanging_flag", "bench_cloth", "vehicle_only"}) {
         SceneConfig s = loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/" + name + ".json");
         s.render.width = 160;
         s.render.height = 90;
@@ -48,5 +48,8 @@ TEST(SceneSubsystems, EveryShippedSceneProfilesExactlyItsDeclaredPhases) {
         EXPECT_EQ(after.glContexts - before.glContexts, (declared & kRender) ? 1 : 0) << name;
         EXPECT_EQ(after.windows, before.windows) << name;
         EXPECT_EQ(rt.flag() != nullptr, bool(declared & kCloth)) << name;
+        if (rt.flag()) {
+            EXPECT_EQ(rt.flag()->failures(), 0) << name << ": " << rt.flag()->firstFailure();
+        }
     }
 }
