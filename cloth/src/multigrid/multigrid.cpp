@@ -249,11 +249,6 @@ void Multigrid<T>::precondition(const std::vector<double>& r, std::vector<double
 }
 
 template <class T>
-bool Multigrid<T>::free(Index particle) const {
-    return impl_->hierarchy.level(0).active[std::size_t(particle)] != T(0);
-}
-
-template <class T>
 std::string Multigrid<T>::describeHierarchy() const {
     return impl_->hierarchy.label() + (impl_->floats ? ", cycles in float" : "");
 }

@@ -60,8 +60,6 @@ public:
     void rebuildCoarse();
     void product(const std::vector<double>& x, std::vector<double>& y);
     void precondition(const std::vector<double>& r, std::vector<double>& z);
-    // 1 for a free particle, 0 for a pinned one (level 0's rows).
-    bool free(Index particle) const;
 
 private:
     struct Impl;

@@ -91,25 +91,33 @@ Scalar NewtonSolve::evaluate(const StepEquations& eq, const State& at) {
 }
 
 // iterate += alpha delta for the first alpha in 1, 1/2, ..., 1/64 that lowers |R|_{M^-1} enough
-// (Armijo), else the lowest of them if it is lower than now, else no step: false.
+// (Armijo), else the lowest of them if it is lower than now, else no step: false. On a step, the
+// forces and the residual at the new iterate are in force_ and residual_, and stats.residual is
+// their max |R_i| / m_i.
 bool NewtonSolve::lineSearch(const StepEquations& eq, const Points& delta, State& iterate, Scalar& current,
                              NewtonStats& stats) {
     State trial = iterate;
-    Scalar best = current, bestAlpha = 0;
-    for (Scalar alpha = 1; alpha >= Scalar(1) / 64; alpha /= 2) {
+    Scalar best = current, bestAlpha = 0, alpha = 1, worst = 0;
+    for (;; alpha /= 2) {
         trial.v = iterate.v + alpha * delta;
         stagePositions(eq, trial);
         stepForces(eq, trial, trialForce_, pool_.get(), &airWorkspace_);
-        stepResidual(eq, trial, trialForce_, pinned_, trialResidual_);
+        worst = stepResidual(eq, trial, trialForce_, pinned_, trialResidual_);
         const Scalar m = merit(eq.model, trialResidual_);
         if (m < best) best = m, bestAlpha = alpha;
-        if (m < current * (1 - Scalar(1e-4) * alpha)) break;
-        ++stats.lineSearchCuts;
+        if (m < current * (1 - Scalar(1e-4) * alpha) || alpha <= Scalar(1) / 64) break;
     }
     if (bestAlpha == 0) return false;
     iterate.v += bestAlpha * delta;
     stagePositions(eq, iterate);
     current = best;
+    if (bestAlpha == alpha) {  // the last trial is the new iterate: its forces are already known
+        std::swap(force_, trialForce_);
+        std::swap(residual_, trialResidual_);
+        stats.residual = worst;
+    } else {
+        stats.residual = evaluate(eq, iterate);
+    }
     return true;
 }
 
@@ -155,9 +163,7 @@ bool NewtonSolve::solve(const StepEquations& eq, const NewtonControl& control, S
         }
         if (!moved) break;
         stats.correction = (iterate.v - before).cwiseAbs().maxCoeff();
-        stats.residual = evaluate(eq, iterate);
     }
-    stats.converged = stats.correction <= control.tolerance;
     return std::isfinite(current) && iterate.x.allFinite() && iterate.v.allFinite();
 }
 

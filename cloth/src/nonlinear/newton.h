@@ -37,10 +37,8 @@ struct NewtonControl {
 struct NewtonStats {
     int iterations = 0;        // Newton iterations (linear solves)
     int linearIterations = 0;  // GMRES iterations, all solves
-    int lineSearchCuts = 0;    // step halvings
     double residual = -1;      // max |R_i| / m_i at the end, m/s
     double correction = -1;    // the largest velocity change of the last iteration, m/s
-    bool converged = false;
 };
 
 class NewtonSolve {
