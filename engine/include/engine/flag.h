@@ -47,7 +47,7 @@ struct FlagTimings {  // milliseconds, summed since the last reset
 };
 
 struct SolverCounts {  // the solver's iterations (StepResult), summed over the steps since construction
-    long long iterations = 0, linearIterations = 0;
+    long long iterations = 0;
     int maxIterations = 0;  // the most in one step
 };
 

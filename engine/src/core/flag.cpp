@@ -140,7 +140,7 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
     input.h = h;
     input.pins = pins_;
     if (air_ && solver_->couplesAir()) {
-        input.air = &airParams_;  // the solver evaluates the air at every iterate (its time is in forces)
+        input.air = &airParams_;  // the solver evaluates the air at every iterate (its time is the solver's)
     } else if (air_) {
         const auto t0 = Clock::now();
         airForce_.setZero(3, model_.particleCount());
@@ -162,7 +162,6 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
     timings_.solve += solver_->profile().solveMs + solver_->profile().integrateMs;
     ++steps_;
     counts_.iterations += r.iterations;
-    counts_.linearIterations += r.linearIterations;
     counts_.maxIterations = std::max(counts_.maxIterations, r.iterations);
     if (r.status != cloth::StepStatus::Ok) {
         if (failures_++ == 0)
