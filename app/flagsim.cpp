@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "engine/command.h"
 #include "engine/config_error.h"
 #include "engine/runtime.h"
 #include "engine/scene.h"
@@ -39,6 +40,9 @@ int main(int argc, char** argv) {
     app.add_option("--trace", o.tracePath,
                    "write the run as a Chrome Trace Event JSON file (frames, phases, Bullet's zones) "
                    "for Perfetto UI (ui.perfetto.dev) or chrome://tracing");
+    app.add_flag("--overlay", o.overlay,
+                 "draw the panel's graphs and stats (frame time per phase, stretch, iterations) into the "
+                 "recorded frames; its cost is the profile's 'overlay' phase");
     app.add_option("--solver", solver, "override the flag's solver, e.g. multigrid:cycles=2 (solvers and keys below)");
     app.add_option("--constraints", constraints,
                    "override the flag's constraints, e.g. tether=0.02,stretch_limit=0.1 (\"\" for none; keys below)")
@@ -49,7 +53,8 @@ int main(int argc, char** argv) {
     app.add_option("--assets", o.assetsDir, "assets folder (default: $FLAGSIM_ASSETS, the installed ones, or the source tree's)")
         ->check(CLI::ExistingDirectory)
         ->capture_default_str();
-    app.footer(cloth::solverHelp());
+    app.footer(cloth::solverHelp() + "\nCommands (the live panel's actions; a script's \"events\"):\n" +
+               engine::commandHelp());
     CLI11_PARSE(app, argc, argv);
 
     try {

@@ -412,6 +412,28 @@ std::string printTable(bool markdown) {
 
 }  // namespace
 
+std::vector<std::string> solverKindNames() {
+    std::vector<std::string> names;
+    for (const SolverKind& kind : solverKinds()) names.push_back(kind.name);
+    return names;
+}
+
+std::vector<SolverKeyInfo> solverKeys(const SolverConfig& config) {
+    std::vector<SolverKeyInfo> out;
+    const SolverKind* kind = findSolverKind(config.name);
+    if (!kind) return out;
+    for (const SolverKey& k : kind->keys) {
+        SolverKeyInfo info;
+        info.name = k.name, info.doc = k.doc;
+        info.type = SolverKeyInfo::Type(int(k.type));
+        info.min = k.min, info.max = k.max, info.choices = k.choices;
+        info.value = k.get(config);
+        info.text = k.text(config);
+        out.push_back(std::move(info));
+    }
+    return out;
+}
+
 std::string solverHelp() { return printTable(false); }
 std::string solverTableMarkdown() { return printTable(true); }
 

@@ -23,6 +23,7 @@
 #include <string>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 #include "cloth/constraints.h"
 #include "cloth/system.h"
@@ -134,6 +135,19 @@ bool defaultSolverConfig(std::string_view name, SolverConfig& out, std::string* 
 bool setSolverParameter(SolverConfig& config, std::string_view key, std::string_view value, std::string* error);
 // Checks a config's ranges; returns an empty string when valid, else what is wrong.
 std::string validate(const SolverConfig& config);
+// The solver table as data for a user interface (the demo's panel): the kinds, and each key of a
+// config's kind with its row and its value.
+struct SolverKeyInfo {
+    enum class Type { Integer, Real, Choice };
+    std::string name, doc;
+    Type type = Type::Integer;
+    double min = 0, max = 0;           // Integer, Real: the allowed range
+    std::vector<std::string> choices;  // Choice: the allowed words
+    double value = 0;                  // Choice: the index of the word
+    std::string text;                  // the value as the parser reads it
+};
+std::vector<std::string> solverKindNames();
+std::vector<SolverKeyInfo> solverKeys(const SolverConfig& config);
 // Every kind with its keys: plain text for --help, or a Markdown table for the README.
 std::string solverHelp();
 std::string solverTableMarkdown();

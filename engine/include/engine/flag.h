@@ -66,6 +66,11 @@ public:
     // Moves the flag to `state` (a reference run's, for a restart) with the pins on `carrier`; the
     // solver forgets its history.
     void restart(const cloth::State& state, const RigidFrame& carrier);
+    // Takes the scene's solver, constraints, stiffness, mass, drag and air, keeping the state (the
+    // resolution must be the same). Throws ConfigError for a bad solver, leaving the flag as it was.
+    void reconfigure(const SceneConfig& scene);
+    // Back to rest on the pole at the carrier's pose (what a failed tick's recovery does).
+    void reset(const RigidFrame& carrier) { resetToRest(carrier); }
     const SolverCounts& solverCounts() const { return counts_; }
     const std::vector<cloth::Pin>& pins() const { return pins_; }
     const FlagTimings& timings() const { return timings_; }
@@ -85,6 +90,7 @@ private:
     bool stepOnce(double h, const std::vector<cloth::Collider>& colliders);
     void traceStep(Trace::Clock::time_point begin, Trace::Clock::time_point end) const;
     void resetToRest(const RigidFrame& carrier);
+    void applySettings(const SceneConfig& scene);
 
     cloth::Model model_;
     cloth::State state_;

@@ -12,8 +12,10 @@
 // and script give the same frames; in a live window an accumulator follows the wall clock,
 // clamped to max_ticks_per_frame so a slow frame cannot spiral.
 
+#include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,7 @@ struct RunOptions {
     bool noProgress = false;
     std::string recordInput;
     std::string tracePath;      // empty: no trace; else a Chrome Trace Event JSON of the run
+    bool overlay = false;       // the panel's graphs and stats drawn into the recorded frames
     int width = 0, height = 0;  // 0: the scene's
     bool readback = false;      // read every frame back even in a window without recording
     std::string assetsDir = defaultAssetsDir();
@@ -65,6 +68,12 @@ public:
     int finish();
 
     int frameIndex() const;
+    const SceneConfig& scene() const;  // as the commands so far left it
+    // The scene file the panel asked to run next (switch or restart); empty otherwise. The run
+    // stops at the frame after the request; runScene then starts that scene.
+    const std::string& nextScene() const;
+    // Where the panel last drew the widget with this label (tests click there); none without one.
+    std::optional<std::array<float, 4>> widgetRect(const std::string& label) const;
     int frameCount() const;
     double simTime() const;
     const Profiler& profiler() const;

@@ -23,10 +23,16 @@ public:
     // in wall-clock mode.
     long long ticksDue(int frame, Clock::time_point now = Clock::now());
     void countTick() { ++ticks_; }  // one tick has run
+    // From frame `frame` on, ticks of 1/physicsHz: the schedule restarts at the ticks and the time
+    // reached, so the frames before keep theirs.
+    void setPhysicsHz(double physicsHz, int frame);
+    // From frame `frame` on, the schedule counts from the ticks reached (after single steps).
+    void restartSchedule(int frame) { setPhysicsHz(physicsHz_, frame); }
 
     long long ticks() const { return ticks_; }
     double tickDt() const { return tickDt_; }
-    double simTime() const { return ticks_ * tickDt_; }
+    double physicsHz() const { return physicsHz_; }
+    double simTime() const { return timeBase_ + (ticks_ - ticksBase_) * tickDt_; }
     bool lockstep() const { return lockstep_; }
 
 private:
@@ -37,6 +43,9 @@ private:
     int maxTicksPerFrame_;
     bool lockstep_;
     long long ticks_ = 0;
+    long long ticksBase_ = 0;  // ticks and time when the rate last changed, and the frame it changed at
+    double timeBase_ = 0;
+    int frameBase_ = 0;
     double accumulator_ = 0;  // wall seconds not yet run as ticks
     Clock::time_point lastWall_ = Clock::now();
 };

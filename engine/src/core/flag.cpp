@@ -40,15 +40,9 @@ cloth::Model buildModel(const SceneConfig& scene, const PoleMount& mount) {
 
 Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier)
     : model_(buildModel(scene, mount)), mount_(mount) {
-    std::string error;
-    solver_ = cloth::makeSolver(scene.flag.solver, &error);
-    if (!solver_) throw ConfigError(scene.file + ": flag.solver: " + error);
-    solver_->setConstraints(scene.flag.constraints);
-    env_.drag = scene.flag.drag;
+    applySettings(scene);
     air_ = scene.subsystems & kAir;
-    implicitAir_ = scene.flag.implicitAir;
     collision_ = scene.subsystems & kCollision;
-    airParams_ = scene.air;
     thickness_ = scene.flag.thickness;
     substeps_ = scene.flag.substeps;
     pins_ = cloth::pinColumn(model_);  // column 0 at its rest position: the pole edge in pole space
@@ -68,6 +62,27 @@ Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& c
         if (std::hypot(d.x(), d.z()) < sleeve) collisionSkip_[i] = 1;
     }
     resetToRest(carrier);
+}
+
+// The solver, its constraints, the drag and the air, from the scene's settings.
+void Flag::applySettings(const SceneConfig& scene) {
+    std::string error;
+    std::unique_ptr<cloth::Solver> solver = cloth::makeSolver(scene.flag.solver, &error);
+    if (!solver) throw ConfigError(scene.file + ": flag.solver: " + error);
+    solver->setConstraints(scene.flag.constraints);
+    solver_ = std::move(solver);
+    env_.drag = scene.flag.drag;
+    implicitAir_ = scene.flag.implicitAir;
+    airParams_ = scene.air;
+}
+
+void Flag::reconfigure(const SceneConfig& scene) {
+    cloth::Model model = buildModel(scene, mount_);
+    if (model.particleCount() != model_.particleCount())
+        throw ConfigError(scene.file + ": flag.resolution: a running flag keeps its particles");
+    applySettings(scene);  // first: a bad solver leaves the flag as it was
+    model_ = std::move(model);
+    solver_->resetHistory();
 }
 
 void Flag::resetToRest(const RigidFrame& carrier) {

@@ -17,9 +17,18 @@ long long TickClock::ticksDue(int frame, Clock::time_point now) {
     return lockstep_ ? lockstepTicks(frame) : wallTicks(now);
 }
 
+void TickClock::setPhysicsHz(double physicsHz, int frame) {
+    timeBase_ = simTime();
+    ticksBase_ = ticks_;
+    frameBase_ = frame;
+    physicsHz_ = physicsHz;
+    tickDt_ = 1.0 / physicsHz;
+}
+
 // The schedule's ticks by the end of this frame, less those already run.
 long long TickClock::lockstepTicks(int frame) const {
-    const long long target = static_cast<long long>(std::floor((frame + 1) * physicsHz_ / fps_ + 1e-9));
+    const long long target =
+        ticksBase_ + static_cast<long long>(std::floor((frame - frameBase_ + 1) * physicsHz_ / fps_ + 1e-9));
     return target - ticks_;
 }
 

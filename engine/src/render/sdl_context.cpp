@@ -3,6 +3,7 @@
 #include <SDL.h>
 
 #include <algorithm>
+#include <array>
 
 #include "engine/render/gl_context.h"
 
@@ -28,20 +29,23 @@ public:
     bool makeCurrent() override { return SDL_GL_MakeCurrent(window_, gl_) == 0; }
     bool isWindow() const override { return true; }
 
-    bool pollEvents(Actions& a) override {
+    bool pollEvents(Actions& a, const EventSink& sink) override {
         SDL_Event e;
         bool open = true;
         while (SDL_PollEvent(&e)) {
             if (e.type == SDL_QUIT) open = false;
+            const bool taken = sink && sink(&e);
+            if (e.type == SDL_KEYUP) held_[e.key.keysym.scancode] = false;  // a release always counts
+            if (taken) continue;
             if (e.type == SDL_KEYDOWN && e.key.keysym.sym == SDLK_ESCAPE) open = false;
+            if (e.type == SDL_KEYDOWN) held_[e.key.keysym.scancode] = true;
             if (e.type == SDL_CONTROLLERDEVICEADDED && !pad_) pad_ = SDL_GameControllerOpen(e.cdevice.which);
         }
-        const Uint8* k = SDL_GetKeyboardState(nullptr);
-        auto key = [k](SDL_Scancode a, SDL_Scancode b) { return (k[a] || k[b]) ? 1.0 : 0.0; };
+        auto key = [this](SDL_Scancode x, SDL_Scancode y) { return (held_[x] || held_[y]) ? 1.0 : 0.0; };
         a.throttle = key(SDL_SCANCODE_UP, SDL_SCANCODE_W);
         a.brake = key(SDL_SCANCODE_DOWN, SDL_SCANCODE_S);
         a.steer = key(SDL_SCANCODE_LEFT, SDL_SCANCODE_A) - key(SDL_SCANCODE_RIGHT, SDL_SCANCODE_D);
-        a.handbrake = k[SDL_SCANCODE_SPACE] ? 1.0 : 0.0;
+        a.handbrake = held_[SDL_SCANCODE_SPACE] ? 1.0 : 0.0;
         if (pad_) {  // triggers: throttle and brake; left stick: steer; A: handbrake
             auto axis = [this](SDL_GameControllerAxis x) {
                 return SDL_GameControllerGetAxis(pad_, x) / 32767.0;
@@ -61,6 +65,7 @@ private:
     SDL_Window* window_;
     SDL_GLContext gl_;
     SDL_GameController* pad_ = nullptr;
+    std::array<bool, SDL_NUM_SCANCODES> held_{};  // keys down, from the events (a pushed event counts too)
 };
 
 }  // namespace

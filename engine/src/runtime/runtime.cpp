@@ -14,10 +14,8 @@
 #include "engine/config_error.h"
 #include "engine/input_script.h"
 #include "engine/tick_clock.h"
-#include "runtime/recording.h"
-#include "runtime/scene_view.h"
+#include "runtime/runtime_impl.h"
 #include "runtime/summary.h"
-#include "runtime/vehicle_system.h"
 
 namespace engine {
 
@@ -27,8 +25,6 @@ std::atomic<bool> gStop{false};
 SubsystemCounters gCounters;
 
 void onStopSignal(int) { gStop = true; }
-
-using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
@@ -45,49 +41,28 @@ void installStopHandlers() {
 }
 bool stopRequested() { return gStop.load(); }
 
-struct Runtime::Impl {
-    SceneConfig scene;
-    RunOptions opt;
-    std::unique_ptr<Trace> trace;  // --trace; outlives the profiler and the vehicle (its teardown has zones)
-    Profiler profiler;
-    struct Phases {
-        int input = -1, bullet = -1, air = -1, clothForces = -1, clothSolve = -1,
-            collision = -1, render = -1, readback = -1, write = -1;
-    } ph;
+// The window's events (the panel's too), the commands of this frame, then the actions: the
+// window's when it drives live, else the script's at this frame's time.
+void Runtime::Impl::readInput() {
+    Actions polled;
+    if (view) polled = view->pollActions();  // also keeps a window responsive
+    applyCommands();
+    if (!vehicle) return;
+    const double t = clock->simTime();
+    actions = (view && view->hasWindow() && !script) ? polled : script ? script->sample(t) : Actions{};
+    if (recorder) recorder->record(t, actions);
+    vehicle->setActions(actions);
+}
 
-    std::optional<InputScript> script;
-    std::optional<InputRecorder> recorder;
-    Actions actions;
-
-    std::unique_ptr<VehicleSystem> vehicle;  // kVehicle
-    std::unique_ptr<Flag> flag;              // kCloth
-    RigidFrame fixedCarrier;                 // the world, for a fixed pole
-    PoleMount mount;                         // the pole in its carrier's frame
-    std::vector<cloth::Collider> staticColliders;
-    std::unique_ptr<SceneView> view;         // kRender (+ kWindow)
-    std::unique_ptr<Recording> recording;    // kRender + kRecording
-
-    int frame = 0, frames = 0;
-    std::optional<TickClock> clock;  // set by planFrames
-    Clock::time_point nextFrame = Clock::now();
-    double maxPinError = 0;
-    std::string stopReason = "completed";
-    Clock::time_point start = Clock::now();
-
-    RigidFrame carrier() const { return vehicle ? vehicle->carrier() : fixedCarrier; }
-    void tick();
-    void stepFlag(double h);
-    void measurePinError();
-
-    // Construction, in this order.
-    void applyOptions();
-    void planFrames();
-    void addPhases();
-    void buildVehicle();
-    void buildFlag();
-    void buildView();
-    void buildRecording();
-};
+// What the panel shows of the frame just finished.
+void Runtime::Impl::endFrame() {
+    if (!view || !view->hasPanel()) return;
+    lastRow = profiler.rows().back();
+    if (flag) {
+        lastCounts = flag->solverCounts();
+        lastSteps = flag->steps();
+    }
+}
 
 // One fixed tick: the vehicle first, then the flag against the carrier's pose at the end of that
 // tick, each timed in its own phase ("bullet" here, the cloth phases from the flag's timings).
@@ -215,6 +190,8 @@ void Runtime::Impl::addPhases() {
     if (subsystems & kRender) {
         ph.render = p.addPhase("render");
         ph.readback = p.addPhase("readback");
+        if (opt.overlay) ph.overlay = p.addPhase("overlay");  // the panel drawn into the frames
+        else if (subsystems & kWindow) ph.overlay = p.addPhase("panel");  // on screen only
     }
     if (subsystems & kRecording) ph.write = p.addPhase("write");
 }
@@ -281,6 +258,7 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     if (m.scene.subsystems & kVehicle) m.buildVehicle();
     if (m.scene.subsystems & kCloth) m.buildFlag();
     if (m.scene.subsystems & kRender) m.buildView();
+    if (m.view && m.view->hasPanel()) m.scenes = sceneNames(options.assetsDir);
     if (m.view && (m.scene.subsystems & kRecording)) m.buildRecording();
     m.clock->startWall();
 }
@@ -298,25 +276,26 @@ bool Runtime::frame() {
         m.stopReason = "window closed";
         return false;
     }
+    if (!m.nextScene.empty()) {
+        m.stopReason = "switched to " + m.nextScene;
+        return false;
+    }
     Profiler& p = m.profiler;
     p.beginFrame();
-    const double t = m.clock->simTime();
-
-    if (m.vehicle) {
+    if (m.ph.input >= 0) {
         Profiler::Scope scope(p, m.ph.input);
-        if (m.view && m.view->hasWindow() && !m.script) m.actions = m.view->pollActions();
-        else {
-            if (m.view) m.view->pollActions();  // keep the window responsive
-            m.actions = m.script ? m.script->sample(t) : Actions{};
-        }
-        if (m.recorder) m.recorder->record(t, m.actions);
-        m.vehicle->setActions(m.actions);
+        m.readInput();
+    } else {
+        m.readInput();
     }
 
-    // Fixed ticks this frame: exactly the schedule in lockstep, else what the wall clock gives.
-    const long long ticksNow = m.clock->ticksDue(m.frame);
+    // Fixed ticks this frame: exactly the schedule in lockstep, else what the wall clock gives;
+    // none while paused, one for a single step.
+    const long long ticksNow = m.ticksThisFrame();
     if (m.flag) m.flag->resetTimings();
     for (long long k = 0; k < ticksNow; ++k) m.tick();
+    if (m.restartSchedule) m.clock->restartSchedule(m.simFrame);
+    m.restartSchedule = false;
     if (m.flag) {
         const FlagTimings& ft = m.flag->timings();
         if (m.ph.air >= 0) p.add(m.ph.air, ft.air);
@@ -325,12 +304,18 @@ bool Runtime::frame() {
         if (m.ph.collision >= 0) p.add(m.ph.collision, ft.collision);
     }
 
-    if (m.view) m.view->renderFrame(p, m.ph.render, m.ph.readback);
+    if (m.view) {
+        const std::optional<PanelState> panel =
+            m.view->hasPanel() ? std::optional<PanelState>(m.panelState()) : std::nullopt;
+        const double frameSeconds = m.lastRow.empty() ? 1.0 / m.scene.fps : m.lastRow.back() / 1000;
+        m.view->renderFrame(p, m.ph.render, m.ph.readback, m.ph.overlay, panel ? &*panel : nullptr, frameSeconds);
+    }
     if (m.recording) {
         Profiler::Scope scope(p, m.ph.write);
         m.recording->write(m.frame, m.view->pixels());
     }
     p.endFrame();
+    m.endFrame();
     ++m.frame;
     if (m.view && m.view->hasWindow()) {  // a window shows frames at the frame rate
         m.nextFrame = std::max(m.nextFrame + std::chrono::duration_cast<Clock::duration>(
@@ -395,6 +380,11 @@ int Runtime::finish() {
 }
 
 int Runtime::frameIndex() const { return impl_->frame; }
+const SceneConfig& Runtime::scene() const { return impl_->scene; }
+const std::string& Runtime::nextScene() const { return impl_->nextScene; }
+std::optional<std::array<float, 4>> Runtime::widgetRect(const std::string& label) const {
+    return impl_->view ? impl_->view->widgetRect(label) : std::nullopt;
+}
 int Runtime::frameCount() const { return impl_->frames; }
 double Runtime::simTime() const { return impl_->clock->simTime(); }
 const Profiler& Runtime::profiler() const { return impl_->profiler; }
@@ -428,8 +418,10 @@ void drawProgress(int done, int total, double wallSeconds) {
 
 }  // namespace
 
-int runScene(const SceneConfig& scene, const RunOptions& options) {
-    installStopHandlers();
+namespace {
+
+// One run of one scene; *next is the scene the panel asked for (empty: none).
+int runOnce(const SceneConfig& scene, const RunOptions& options, std::string* next) {
     Runtime rt(scene, options);
     const bool progress = !options.noProgress && isatty(fileno(stderr));
     const auto t0 = Clock::now();
@@ -439,6 +431,7 @@ int runScene(const SceneConfig& scene, const RunOptions& options) {
                          std::chrono::duration<double>(Clock::now() - t0).count());
     if (progress) std::fprintf(stderr, "\n");
     int code = rt.finish();
+    *next = rt.nextScene();
     std::printf("scene %s: %d frames, %.2f s simulated, %.2f s wall\n", scene.name.c_str(),
                 rt.frameIndex(), rt.simTime(), std::chrono::duration<double>(Clock::now() - t0).count());
     if (rt.flag()) {
@@ -450,6 +443,19 @@ int runScene(const SceneConfig& scene, const RunOptions& options) {
     }
     std::printf("%s", rt.profiler().summaryTable().c_str());
     if (!options.outDir.empty()) std::printf("recorded to %s\n", options.outDir.c_str());
+    return code;
+}
+
+}  // namespace
+
+int runScene(const SceneConfig& scene, const RunOptions& options) {
+    installStopHandlers();
+    std::string next;
+    int code = runOnce(scene, options, &next);
+    while (code == 0 && !next.empty() && !stopRequested()) {  // the panel switched scene or restarted
+        SceneConfig chosen = loadScene(next);
+        code = runOnce(chosen, options, &next);
+    }
     if (stopRequested()) {
         std::printf("interrupted: outputs are complete up to the last frame\n");
         if (code == 0) code = 130;  // the shell's convention for a run ended by SIGINT

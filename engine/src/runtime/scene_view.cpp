@@ -15,6 +15,12 @@
 #ifdef FLAGSIM_HAS_ASSIMP
 #include "engine/assets/model_loader.h"
 #endif
+#ifdef FLAGSIM_HAS_IMGUI
+#include "ui/panel.h"
+#endif
+#ifdef FLAGSIM_HAS_SDL2
+#include <SDL.h>
+#endif
 
 namespace engine {
 
@@ -42,8 +48,20 @@ struct SceneView::Impl {
     bool cameraStarted = false;
     bool windowOpen = true;
     bool readback = false;  // read every frame back, even from a window
+#ifdef FLAGSIM_HAS_IMGUI
+    std::unique_ptr<Panel> panel;
+#endif
+    bool overlay = false;   // the panel goes into the recorded frames
+    struct Orbit {          // the camera command's orbit about the target
+        double yaw = 0, pitch = 0, zoom = 1;
+    } orbit, pendingOrbit;
+    bool dragging = false, orbitMoved = false;
 
     void createContext();
+    void createPanel(bool interactive);
+    bool takeEvent(const void* event);
+    Camera orbited() const;
+    void drawPanel(const PanelState* state, double frameSeconds);
     void addGroundAndPole();
     void addVehicleMeshes();
     void addFlagMesh();
@@ -142,6 +160,8 @@ SceneView::SceneView(const SceneConfig& scene, const RunOptions& options, const 
     m.flag = flag;
     m.readback = options.readback || (scene.subsystems & kRecording);  // the recording takes every frame
     m.createContext();
+    m.overlay = options.overlay;
+    if ((scene.subsystems & kWindow) || options.overlay) m.createPanel(scene.subsystems & kWindow);
     m.addGroundAndPole();
     if (vehicle) m.addVehicleMeshes();
     if (flag) m.addFlagMesh();
@@ -153,10 +173,102 @@ int SceneView::contextsCreated() { return GLContext::contextsCreated(); }
 bool SceneView::hasWindow() const { return impl_->context->isWindow(); }
 bool SceneView::windowClosed() const { return !impl_->windowOpen; }
 
+// The panel, or an error naming what is missing (a build without Dear ImGui has none).
+void SceneView::Impl::createPanel(bool interactive) {
+#ifdef FLAGSIM_HAS_IMGUI
+    try {
+        panel = std::make_unique<Panel>(*context, interactive);
+    } catch (const std::runtime_error& e) {
+        throw ConfigError(scene->file + ": render: " + e.what());
+    }
+#else
+    (void)interactive;
+    if (overlay) throw ConfigError("--overlay: this build has no panel (Dear ImGui was not found at configure time)");
+#endif
+}
+
+// The panel first; outside it the left button drags the camera's orbit and the wheel zooms.
+bool SceneView::Impl::takeEvent(const void* event) {
+#ifdef FLAGSIM_HAS_IMGUI
+    if (panel && panel->handleEvent(event)) return true;
+#endif
+#ifdef FLAGSIM_HAS_SDL2
+    const SDL_Event& e = *static_cast<const SDL_Event*>(event);
+    if (e.type == SDL_MOUSEBUTTONDOWN && e.button.button == SDL_BUTTON_LEFT) dragging = true;
+    if (e.type == SDL_MOUSEBUTTONUP && e.button.button == SDL_BUTTON_LEFT) dragging = false;
+    if (e.type == SDL_MOUSEMOTION && dragging) {
+        pendingOrbit.yaw = std::remainder(pendingOrbit.yaw - 0.3 * e.motion.xrel, 360.0);
+        pendingOrbit.pitch = std::clamp(pendingOrbit.pitch + 0.3 * e.motion.yrel, -80.0, 80.0);
+        orbitMoved = true;
+    }
+    if (e.type == SDL_MOUSEWHEEL) {
+        pendingOrbit.zoom = std::clamp(pendingOrbit.zoom * std::pow(0.9, e.wheel.y), 0.2, 5.0);
+        orbitMoved = true;
+    }
+    return e.type == SDL_MOUSEBUTTONDOWN || e.type == SDL_MOUSEBUTTONUP || e.type == SDL_MOUSEMOTION ||
+           e.type == SDL_MOUSEWHEEL;
+#else
+    (void)event;
+    return false;
+#endif
+}
+
 Actions SceneView::pollActions() {
     Actions a;
-    impl_->windowOpen = impl_->context->pollEvents(a) && impl_->windowOpen;
+    Impl& m = *impl_;
+    m.windowOpen = m.context->pollEvents(a, [&m](const void* e) { return m.takeEvent(e); }) && m.windowOpen;
     return a;
+}
+
+bool SceneView::hasPanel() const {
+#ifdef FLAGSIM_HAS_IMGUI
+    return impl_->panel != nullptr;
+#else
+    return false;
+#endif
+}
+
+PanelRequests SceneView::takeRequests() {
+    Impl& m = *impl_;
+    PanelRequests r;
+#ifdef FLAGSIM_HAS_IMGUI
+    if (m.panel) r = m.panel->takeRequests();
+#endif
+    if (m.orbitMoved) {
+        char value[96];
+        std::snprintf(value, sizeof value, "%.3f,%.3f,%.4f", m.pendingOrbit.yaw, m.pendingOrbit.pitch, m.pendingOrbit.zoom);
+        r.commands.push_back({"camera", value});
+        m.orbitMoved = false;
+    }
+    return r;
+}
+
+void SceneView::setOrbit(double yawDeg, double pitchDeg, double zoom) {
+    impl_->orbit = {yawDeg, pitchDeg, zoom};
+    impl_->pendingOrbit = impl_->orbit;
+}
+
+std::optional<std::array<float, 4>> SceneView::widgetRect(const std::string& label) const {
+#ifdef FLAGSIM_HAS_IMGUI
+    if (impl_->panel) return impl_->panel->widgetRect(label);
+#endif
+    (void)label;
+    return std::nullopt;
+}
+
+// The eye turned about the target by the orbit: yaw about the vertical, pitch up, the distance
+// scaled by zoom.
+Camera SceneView::Impl::orbited() const {
+    Camera c = camera;
+    if (orbit.yaw == 0 && orbit.pitch == 0 && orbit.zoom == 1) return c;
+    const Eigen::Vector3d offset = (c.eye - c.target).cast<double>();
+    const double r = offset.norm(), flat = std::hypot(offset.x(), offset.z());
+    const double azimuth = std::atan2(offset.z(), offset.x()) + orbit.yaw * M_PI / 180;
+    const double elevation = std::clamp(std::atan2(offset.y(), flat) + orbit.pitch * M_PI / 180, -0.1, 1.45);
+    const double d = r * orbit.zoom;
+    c.eye = c.target + Eigen::Vector3d(d * std::cos(elevation) * std::cos(azimuth), d * std::sin(elevation),
+                                       d * std::cos(elevation) * std::sin(azimuth)).cast<float>();
+    return c;
 }
 
 void SceneView::Impl::updateCamera() {
@@ -221,7 +333,16 @@ std::vector<DrawItem> SceneView::Impl::drawList() {
     return items;
 }
 
-void SceneView::renderFrame(Profiler& profiler, int phRender, int phReadback) {
+void SceneView::Impl::drawPanel(const PanelState* state, double frameSeconds) {
+#ifdef FLAGSIM_HAS_IMGUI
+    if (panel && state) panel->draw(*state, context->width(), context->height(), frameSeconds);
+#else
+    (void)state, (void)frameSeconds;
+#endif
+}
+
+void SceneView::renderFrame(Profiler& profiler, int phRender, int phReadback, int phOverlay, const PanelState* panel,
+                            double frameSeconds) {
     Impl& m = *impl_;
     {
         Profiler::Scope scope(profiler, phRender);
@@ -230,14 +351,23 @@ void SceneView::renderFrame(Profiler& profiler, int phRender, int phReadback) {
         Lighting light;
         light.shadowFocus = m.camera.target;
         light.shadowExtent = 18;
-        m.renderer->render(m.camera, light, m.drawList());
+        m.renderer->render(m.orbited(), light, m.drawList());
+    }
+    if (m.overlay) {  // the panel into the recorded frames
+        Profiler::Scope scope(profiler, phOverlay);
+        m.drawPanel(panel, frameSeconds);
     }
     {
         Profiler::Scope scope(profiler, phReadback);
         // A live window without recording has no use for the pixels: skip the readback.
         if (m.readback || !m.context->isWindow()) m.renderer->readPixels(m.pixels);
-        m.context->present();
     }
+    if (!m.overlay && m.context->isWindow() && phOverlay >= 0) {  // the panel on screen only
+        Profiler::Scope scope(profiler, phOverlay);
+        m.drawPanel(panel, frameSeconds);
+    }
+    Profiler::Scope scope(profiler, phReadback);
+    m.context->present();
 }
 
 const std::vector<std::uint8_t>& SceneView::pixels() const { return impl_->pixels; }

@@ -3,7 +3,9 @@
 // scene's meshes, the chase camera. Each frame's pixels are read back for the recording (see
 // recording.h), for --readback, and always offscreen.
 
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,7 @@
 #include "engine/profiler.h"
 #include "engine/runtime.h"
 #include "engine/scene.h"
+#include "ui/panel_types.h"
 
 namespace engine {
 
@@ -27,11 +30,24 @@ public:
 
     bool hasWindow() const;
     bool windowClosed() const;
-    Actions pollActions();  // keyboard and gamepad (window); also keeps the window alive
+    // Keyboard and gamepad (window); also keeps the window alive. Events the panel takes go to
+    // it; a drag or the wheel outside the panel orbits the camera.
+    Actions pollActions();
+    bool hasPanel() const;
 
-    // Draws the frame and reads it back into pixels() (each timed in its phase).
-    void renderFrame(Profiler& profiler, int phRender, int phReadback);
+    // Draws the frame and reads it back into pixels() (each timed in its phase). With a panel,
+    // `panel` is what it shows, timed in phOverlay: drawn after the readback in a window (the
+    // recorded frames stay the scene's), before it with --overlay.
+    void renderFrame(Profiler& profiler, int phRender, int phReadback, int phOverlay = -1,
+                     const PanelState* panel = nullptr, double frameSeconds = 0);
     const std::vector<std::uint8_t>& pixels() const;  // RGBA, top-down
+
+    // What the user asked for since the last call: the panel's commands and requests, and the
+    // camera's orbit as a command.
+    PanelRequests takeRequests();
+    // The camera command's orbit (yaw and pitch in degrees, zoom a distance factor).
+    void setOrbit(double yawDeg, double pitchDeg, double zoom);
+    std::optional<std::array<float, 4>> widgetRect(const std::string& label) const;
 
 private:
     struct Impl;

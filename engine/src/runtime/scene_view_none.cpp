@@ -16,7 +16,11 @@ int SceneView::contextsCreated() { return 0; }
 bool SceneView::hasWindow() const { return false; }
 bool SceneView::windowClosed() const { return false; }
 Actions SceneView::pollActions() { return {}; }
-void SceneView::renderFrame(Profiler&, int, int) {}
+bool SceneView::hasPanel() const { return false; }
+void SceneView::renderFrame(Profiler&, int, int, int, const PanelState*, double) {}
+PanelRequests SceneView::takeRequests() { return {}; }
+void SceneView::setOrbit(double, double, double) {}
+std::optional<std::array<float, 4>> SceneView::widgetRect(const std::string&) const { return std::nullopt; }
 const std::vector<std::uint8_t>& SceneView::pixels() const {
     static const std::vector<std::uint8_t> none;
     return none;

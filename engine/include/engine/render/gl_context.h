@@ -2,6 +2,7 @@
 // Where the renderer draws: an offscreen OSMesa buffer (headless) or an SDL2 window. Both give
 // an OpenGL 3.3 core context and a proc-address function; the renderer is the same for both.
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -17,9 +18,15 @@ public:
     virtual bool makeCurrent() = 0;
     virtual void present() {}             // swap buffers (window)
     virtual bool isWindow() const { return false; }
-    // Window events: keyboard and gamepad mapped to driving actions; false once the user closed
-    // the window (or pressed Escape).
-    virtual bool pollEvents(Actions& actions) { (void)actions; return true; }
+    // Each window event (an SDL_Event) is offered to the sink first; true means the sink took it
+    // (the panel), and it does not drive. The rest: keyboard and gamepad mapped to driving
+    // actions, the keys held as their events said. False once the user closed the window (or
+    // pressed Escape).
+    using EventSink = std::function<bool(const void* event)>;
+    virtual bool pollEvents(Actions& actions, const EventSink& sink) {
+        (void)actions, (void)sink;
+        return true;
+    }
     int width() const { return width_; }
     int height() const { return height_; }
     static int contextsCreated();  // process-wide count

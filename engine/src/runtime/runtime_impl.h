@@ -1,0 +1,90 @@
+#pragma once
+// The runtime's state: the subsystems a scene declares, the clock, the input, and the commands'
+// state (pause, single step, a requested scene). runtime.cpp builds and runs it; commands.cpp
+// applies the commands.
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/command.h"
+#include "engine/flag.h"
+#include "engine/input_script.h"
+#include "engine/profiler.h"
+#include "engine/runtime.h"
+#include "engine/tick_clock.h"
+#include "engine/trace.h"
+#include "runtime/recording.h"
+#include "runtime/scene_view.h"
+#include "runtime/vehicle_system.h"
+
+namespace engine {
+
+using Clock = std::chrono::steady_clock;
+
+struct Runtime::Impl {
+    SceneConfig scene;
+    RunOptions opt;
+    std::unique_ptr<Trace> trace;  // --trace; outlives the profiler and the vehicle (its teardown has zones)
+    Profiler profiler;
+    struct Phases {
+        int input = -1, bullet = -1, air = -1, clothForces = -1, clothSolve = -1,
+            collision = -1, render = -1, readback = -1, overlay = -1, write = -1;
+    } ph;
+
+    std::optional<InputScript> script;  // the actions, and the events (commands) by frame
+    std::optional<InputRecorder> recorder;
+    Actions actions;
+
+    std::unique_ptr<VehicleSystem> vehicle;  // kVehicle
+    std::unique_ptr<Flag> flag;              // kCloth
+    RigidFrame fixedCarrier;                 // the world, for a fixed pole
+    PoleMount mount;                         // the pole in its carrier's frame
+    std::vector<cloth::Collider> staticColliders;
+    std::unique_ptr<SceneView> view;         // kRender (+ kWindow)
+    std::unique_ptr<Recording> recording;    // kRender + kRecording
+
+    int frame = 0, frames = 0;
+    int simFrame = 0;           // frames that advanced the tick schedule (not paused)
+    bool paused = false, stepPending = false, restartSchedule = false;
+    std::vector<std::string> scenes;  // the assets' scenes, for the panel
+    std::string nextScene;      // the panel asked for this scene (or, restart, this one)
+    std::vector<double> lastRow;  // the profile's last row, for the panel
+    SolverCounts lastCounts;      // the flag's counts at the last frame's end
+    long long lastSteps = 0;
+    std::optional<TickClock> clock;  // set by planFrames
+    Clock::time_point nextFrame = Clock::now();
+    double maxPinError = 0;
+    std::string stopReason = "completed";
+    Clock::time_point start = Clock::now();
+
+    RigidFrame carrier() const { return vehicle ? vehicle->carrier() : fixedCarrier; }
+    void tick();
+    // Commands (commands.cpp): the script's events and the panel's requests for this frame,
+    // applied and recorded, and what the panel shows.
+    void applyCommands();
+    void apply(const Command& command);
+    void takeRequests();
+    PanelState panelState() const;
+    void readInput();
+    void endFrame();
+    long long ticksThisFrame();
+    void stepFlag(double h);
+    void measurePinError();
+
+    // Construction, in this order.
+    void applyOptions();
+    void planFrames();
+    void addPhases();
+    void buildVehicle();
+    void buildFlag();
+    void buildView();
+    void buildRecording();
+};
+
+// The names of the scene files in assetsDir/scenes, sorted.
+std::vector<std::string> sceneNames(const std::string& assetsDir);
+
+}  // namespace engine

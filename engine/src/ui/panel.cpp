@@ -1,0 +1,125 @@
+// The panel's life: its ImGui context, a frame of it, the graphs' history.
+
+#include "ui/panel.h"
+
+#include <imgui.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include "engine/render/gl_context.h"
+#include "ui/imgui_gl.h"
+
+namespace engine {
+
+// The last seconds of each measured series, oldest first.
+struct Panel::History {
+    static constexpr std::size_t kFrames = 300;  // 5 s at 60 frames per second
+    std::map<std::string, std::deque<float>> series;
+    std::vector<std::string> order;  // the phases in the profile's order, then the flag's series
+    void add(const std::string& name, double value) {
+        auto [it, inserted] = series.try_emplace(name);
+        if (inserted) order.push_back(name);
+        it->second.push_back(float(value));
+        if (it->second.size() > kFrames) it->second.pop_front();
+    }
+};
+
+Panel::Panel(GLContext& context, bool interactive)
+    : interactive_(interactive), history_(std::make_unique<History>()) {
+    const char* missing = nullptr;
+    if (!ui::loadImguiGl(context.procAddress(), &missing))
+        throw std::runtime_error(std::string("the panel needs OpenGL function ") + missing);
+    IMGUI_CHECKVERSION();
+    ImGuiContext* previous = ImGui::GetCurrentContext();
+    ctx_ = ImGui::CreateContext();
+    ImGui::SetCurrentContext(ctx_);
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;  // no imgui.ini in the working folder: every run starts the same
+    io.LogFilename = nullptr;
+    ImGui::StyleColorsDark();
+    ImGui::GetStyle().Alpha = interactive ? 0.95f : 0.85f;
+    if (!ImGui_ImplOpenGL3_Init("#version 330 core")) {
+        ImGui::DestroyContext(ctx_);
+        ImGui::SetCurrentContext(previous);
+        throw std::runtime_error("the panel's OpenGL 3 renderer did not start");
+    }
+}
+
+Panel::~Panel() {
+    ImGui::SetCurrentContext(ctx_);
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui::DestroyContext(ctx_);
+}
+
+PanelRequests Panel::takeRequests() {
+    PanelRequests r = std::move(requests_);
+    requests_ = {};
+    return r;
+}
+
+std::optional<std::array<float, 4>> Panel::widgetRect(const std::string& label) const {
+    const auto it = rects_.find(label);
+    if (it == rects_.end()) return std::nullopt;
+    return it->second;
+}
+
+void Panel::remember(const std::string& label) {
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    rects_[label] = {a.x, a.y, b.x, b.y};
+}
+
+void Panel::draw(const PanelState& s, int width, int height, double frameSeconds) {
+    ImGui::SetCurrentContext(ctx_);
+    for (std::size_t i = 0; i < s.phases.size() && i < s.phaseMs.size(); ++i) history_->add(s.phases[i], s.phaseMs[i]);
+    if (s.hasFlag) {
+        history_->add("p99 stretch %", 100 * s.p99Stretch);
+        history_->add("max stretch %", 100 * s.maxStretch);
+        history_->add("iterations / step", s.iterationsPerStep);
+    }
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(float(width), float(height));
+    io.DeltaTime = float(std::max(frameSeconds, 1e-4));
+    for (int b = 0; b < 3; ++b) {  // a press shorter than a frame is still seen by one frame
+        io.MouseDown[b] = mouse_.down[b] || mouse_.pressed[b];
+        mouse_.pressed[b] = false;
+    }
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui::NewFrame();
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(interactive_ ? 380.f : 330.f, 0), ImGuiCond_Always);
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
+                                   (interactive_ ? 0 : ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_NoTitleBar);
+    ImGui::Begin("flagsim", nullptr, flags);
+    drawRun(s);
+    if (interactive_ && s.hasFlag) {
+        if (ImGui::CollapsingHeader("Solver", ImGuiTreeNodeFlags_DefaultOpen)) drawSolver(s);
+        if (ImGui::CollapsingHeader("Flag and air")) drawFlag(s);
+    }
+    if (!interactive_ || ImGui::CollapsingHeader("Graphs", ImGuiTreeNodeFlags_DefaultOpen)) drawGraphs(s);
+    if (!error_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error_.c_str());
+    ImGui::End();
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
+// One plot per series: its last seconds, with the latest value and the maximum shown.
+void Panel::drawGraphs(const PanelState&) {
+    const float width = ImGui::GetContentRegionAvail().x;
+    for (const std::string& name : history_->order) {
+        const std::deque<float>& d = history_->series[name];
+        std::vector<float> values(d.begin(), d.end());
+        const float top = values.empty() ? 1.f : *std::max_element(values.begin(), values.end());
+        char label[128];
+        const bool ms = name.find('%') == std::string::npos && name.find("iterations") == std::string::npos;
+        std::snprintf(label, sizeof label, "%s  %.2f%s (max %.2f)", name.c_str(), values.empty() ? 0.f : values.back(),
+                      ms ? " ms" : "", top);
+        ImGui::TextUnformatted(label);
+        ImGui::PlotLines(("##" + name).c_str(), values.data(), int(values.size()), 0, nullptr, 0.f,
+                         std::max(top, 1e-3f) * 1.1f, ImVec2(width, 28));
+    }
+}
+
+}  // namespace engine
