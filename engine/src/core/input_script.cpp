@@ -35,7 +35,8 @@ std::vector<InputScript::Event> readEvents(const JsonFields& top) {
         ev.command.name = e.string("command", "");
         ev.command.value = e.string("value", "");
         const std::string why = checkCommand(ev.command);
-        if (!why.empty()) e.fail(e.pathOf("value"), list[i], why);
+        if (why.rfind("unknown command", 0) == 0) e.fail(e.pathOf("command"), list[i]["command"], why);
+        if (!why.empty()) e.fail(e.pathOf("value"), e.has("value") ? list[i]["value"] : nlohmann::json(nullptr), why);
         events.push_back(std::move(ev));
     }
     return events;

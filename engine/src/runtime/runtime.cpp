@@ -256,6 +256,7 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     m.planFrames();
     m.addPhases();
     if (m.scene.subsystems & kVehicle) m.buildVehicle();
+    else if (!options.scriptPath.empty()) m.script = InputScript::load(options.scriptPath);  // its events
     if (m.scene.subsystems & kCloth) m.buildFlag();
     if (m.scene.subsystems & kRender) m.buildView();
     if (m.view && m.view->hasPanel()) m.scenes = sceneNames(options.assetsDir);
