@@ -47,6 +47,8 @@ int main(int argc, char** argv) {
     app.add_option("--constraints", constraints,
                    "override the flag's constraints, e.g. tether=0.02,stretch_limit=0.1 (\"\" for none; keys below)")
         ->each([&](const std::string&) { setConstraints = true; });
+    app.add_option("--msaa", o.msaa, "anti-aliasing samples per pixel (default: the scene's, 4; 0: off)")
+        ->check(CLI::Range(0, 16));
     app.add_option("--width", o.width, "override the render width")->check(CLI::Range(16, 7680));
     app.add_option("--height", o.height, "override the render height")->check(CLI::Range(16, 4320));
     app.add_flag("--no-progress", o.noProgress, "no progress bar");

@@ -39,6 +39,7 @@ struct RunOptions {
     std::string tracePath;      // empty: no trace; else a Chrome Trace Event JSON of the run
     bool overlay = false;       // the panel's graphs and stats drawn into the recorded frames
     int width = 0, height = 0;  // 0: the scene's
+    int msaa = -1;              // -1: the scene's; 0 or 1: no anti-aliasing; else samples per pixel
     bool readback = false;      // read every frame back even in a window without recording
     std::string assetsDir = defaultAssetsDir();
 };

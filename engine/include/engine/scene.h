@@ -81,13 +81,15 @@ struct SceneConfig {
         std::string mode = "chase";  // chase | fixed
         double distance = 7, height = 3.0, fov = 50;  // chase: behind, above
         double side = 4;                               // chase: to the left, so the flag shows its face
-        double smoothing = 0.1;      // chase: fraction of the gap closed per frame
+        double targetHeight = 2.0;                     // chase: looks at this height above the chassis
+        double smoothing = 0.1;      // chase: fraction of the heading change followed per frame
         Vec3d eye = {4, 3, 6}, target = {0.75, 1.8, 0};  // fixed
     } camera;
 
     struct Render {
         int width = 1280, height = 720;
         int shadowMapSize = 1024;
+        int msaa = 4;  // samples per pixel of the main pass (anti-aliasing); 0 or 1: off
     } render;
 };
 

@@ -189,11 +189,12 @@ void readAir(const JsonFields& top, cloth::AirParams& air) {
 // "camera": a chase camera's placement and easing, or a fixed camera's eye and target.
 void readCamera(const JsonFields& top, SceneConfig::Camera& camera) {
     const JsonFields c = top.child("camera");
-    c.allowOnly({"mode", "distance", "height", "side", "fov", "smoothing", "eye", "target"});
+    c.allowOnly({"mode", "distance", "height", "side", "fov", "smoothing", "target_height", "eye", "target"});
     camera.mode = c.oneOf("mode", camera.mode, {"chase", "fixed"});
     camera.distance = c.number("distance", camera.distance, 0.1, 1000);
     camera.height = c.number("height", camera.height, -1000, 1000);
     camera.side = c.number("side", camera.side, -1000, 1000);
+    camera.targetHeight = c.number("target_height", camera.targetHeight, -1000, 1000);
     camera.fov = c.number("fov", camera.fov, 5, 170);
     camera.smoothing = c.number("smoothing", camera.smoothing, 0.001, 1);
     camera.eye = c.vec3("eye", camera.eye, -1e4, 1e4);
@@ -203,12 +204,13 @@ void readCamera(const JsonFields& top, SceneConfig::Camera& camera) {
 // "render": the frame size (even, for video encoding) and the shadow map's size.
 void readRender(const JsonFields& top, SceneConfig::Render& render) {
     const JsonFields r = top.child("render");
-    r.allowOnly({"width", "height", "shadow_map_size"});
+    r.allowOnly({"width", "height", "shadow_map_size", "msaa"});
     render.width = r.integer("width", render.width, 16, 7680);
     render.height = r.integer("height", render.height, 16, 4320);
     if (render.width % 2 || render.height % 2)
         r.fail(r.pathOf("width"), render.width, "width and height must be even (video encoding)");
     render.shadowMapSize = r.integer("shadow_map_size", render.shadowMapSize, 0, 8192);
+    render.msaa = r.integer("msaa", render.msaa, 0, 16);
 }
 
 }  // namespace

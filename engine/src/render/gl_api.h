@@ -39,7 +39,12 @@ namespace engine::gl {
     X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                              \
     X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers) X(PFNGLDRAWBUFFERPROC, DrawBuffer)   \
     X(PFNGLREADBUFFERPROC, ReadBuffer) X(PFNGLREADPIXELSPROC, ReadPixels)                   \
-    X(PFNGLFINISHPROC, Finish) X(PFNGLPIXELSTOREIPROC, PixelStorei)
+    X(PFNGLFINISHPROC, Finish) X(PFNGLPIXELSTOREIPROC, PixelStorei)                         \
+    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers) X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer) \
+    X(PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC, RenderbufferStorageMultisample)               \
+    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)                            \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers) X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer) \
+    X(PFNGLGETINTEGERVPROC, GetIntegerv)
 
 struct Api {
 #define FLAGSIM_GL_DECLARE(type, name) type name = nullptr;

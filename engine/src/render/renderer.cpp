@@ -1,9 +1,11 @@
 #include "engine/render/renderer.h"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "render/gl_api.h"
+#include "render/msaa_target.h"
 
 namespace engine {
 
@@ -141,6 +143,7 @@ struct Renderer::Impl {
     GLuint meshProgram = 0, shadowProgram = 0, skyProgram = 0, skyVao = 0;
     GLuint shadowFbo = 0, shadowTexture = 0;
     int shadowSize = 0;
+    std::unique_ptr<MsaaTarget> msaa;  // null: the main pass draws straight into framebuffer 0
     struct Mesh {
         GLuint vao = 0, vbo = 0, ebo = 0;
         GLsizei indexCount = 0;
@@ -260,7 +263,7 @@ struct Renderer::Impl {
     }
 };
 
-Renderer::Renderer(GLContext& context, int shadowMapSize) : impl_(std::make_unique<Impl>()) {
+Renderer::Renderer(GLContext& context, int shadowMapSize, int msaaSamples) : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.context = &context;
     std::string error;
@@ -291,7 +294,17 @@ Renderer::Renderer(GLContext& context, int shadowMapSize) : impl_(std::make_uniq
             throw std::runtime_error("the shadow-map framebuffer is incomplete");
         gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
     }
+    if (msaaSamples > 1) {
+        m.msaa = std::make_unique<MsaaTarget>();
+        std::string why;
+        if (!m.msaa->create(m.gl, context.width(), context.height(), msaaSamples, &why)) {
+            std::fprintf(stderr, "flagsim: note: no anti-aliasing: %s\n", why.c_str());
+            m.msaa.reset();
+        }
+    }
 }
+
+int Renderer::msaaSamples() const { return impl_->msaa ? impl_->msaa->samples() : 0; }
 
 Renderer::~Renderer() {
     Impl& m = *impl_;
@@ -378,6 +391,7 @@ void Renderer::render(const Camera& camera, const Lighting& light, const std::ve
     }
 
     // Main pass.
+    if (m.msaa) m.msaa->bind();
     gl.Viewport(0, 0, w, h);
     gl.Disable(GL_FRAMEBUFFER_SRGB);  // the shaders encode (see kMeshFragment)
     gl.ClearColor(light.horizonColor.x(), light.horizonColor.y(), light.horizonColor.z(), 1);
@@ -418,6 +432,7 @@ void Renderer::render(const Camera& camera, const Lighting& light, const std::ve
     gl.DrawArrays(GL_TRIANGLES, 0, 3);
     gl.BindVertexArray(0);
     gl.DepthFunc(GL_LESS);
+    if (m.msaa) m.msaa->resolve();
 }
 
 void Renderer::readPixels(std::vector<std::uint8_t>& rgba) {

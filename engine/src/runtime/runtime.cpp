@@ -143,6 +143,7 @@ void Runtime::Impl::applyOptions() {
     const RunOptions& options = opt;
     if (options.width) s.render.width = options.width;
     if (options.height) s.render.height = options.height;
+    if (options.msaa >= 0) s.render.msaa = options.msaa;
     if ((s.render.width % 2) || (s.render.height % 2))
         throw ConfigError("--width/--height: " + std::to_string(s.render.width) + "x" +
                           std::to_string(s.render.height) + " must both be even");

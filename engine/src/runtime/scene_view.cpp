@@ -46,6 +46,7 @@ struct SceneView::Impl {
     std::vector<std::uint8_t> pixels;
     Camera camera;
     bool cameraStarted = false;
+    Eigen::Vector3d chaseHeading = Eigen::Vector3d::UnitZ();  // the eased heading the chase camera follows
     bool windowOpen = true;
     bool readback = false;  // read every frame back, even from a window
 #ifdef FLAGSIM_HAS_IMGUI
@@ -77,7 +78,7 @@ void SceneView::Impl::createContext() {
                                             : createOffscreenContext(w, h, &error);
     if (!context) throw ConfigError(scene->file + ": render: " + error);
     try {
-        renderer = std::make_unique<Renderer>(*context, scene->render.shadowMapSize);
+        renderer = std::make_unique<Renderer>(*context, scene->render.shadowMapSize, scene->render.msaa);
     } catch (const std::runtime_error& e) {
         throw ConfigError(scene->file + ": render: " + e.what());
     }
@@ -279,25 +280,20 @@ void SceneView::Impl::updateCamera() {
         camera.target = vec(c.target);
         return;
     }
-    // Chase: behind the vehicle along its heading (flattened), eased towards its spot each frame.
+    // Chase: behind the vehicle along its heading (flattened). The heading is eased each frame,
+    // the position is not, so the vehicle and its flag keep their place in the frame at any speed.
     const Eigen::Isometry3d t = vehicle->chassisTransform();
     Eigen::Vector3d forward = vehicle->forward();
     forward.y() = 0;
     if (forward.norm() < 1e-6) forward = Eigen::Vector3d::UnitZ();
     forward.normalize();
-    const Eigen::Vector3f target = (t.translation() + Eigen::Vector3d(0, 2.0, 0)).cast<float>();
-    const Eigen::Vector3d left = Eigen::Vector3d::UnitY().cross(forward);
-    const Eigen::Vector3f eye =
-        (t.translation() - c.distance * forward + c.side * left + Eigen::Vector3d(0, c.height, 0)).cast<float>();
-    if (!cameraStarted) {
-        camera.eye = eye;
-        camera.target = target;
-        cameraStarted = true;
-    } else {
-        const float s = float(c.smoothing);
-        camera.eye += s * (eye - camera.eye);
-        camera.target += s * 2.f * (target - camera.target);
-    }
+    if (!cameraStarted) chaseHeading = forward;
+    cameraStarted = true;
+    chaseHeading = (chaseHeading + c.smoothing * (forward - chaseHeading)).normalized();
+    const Eigen::Vector3d left = Eigen::Vector3d::UnitY().cross(chaseHeading);
+    camera.target = (t.translation() + Eigen::Vector3d(0, c.targetHeight, 0)).cast<float>();
+    camera.eye = (t.translation() - c.distance * chaseHeading + c.side * left + Eigen::Vector3d(0, c.height, 0))
+                     .cast<float>();
 }
 
 std::vector<DrawItem> SceneView::Impl::drawList() {

@@ -98,28 +98,70 @@ void Panel::draw(const PanelState& s, int width, int height, double frameSeconds
         if (ImGui::CollapsingHeader("Solver", ImGuiTreeNodeFlags_DefaultOpen)) drawSolver(s);
         if (ImGui::CollapsingHeader("Flag and air")) drawFlag(s);
     }
-    if (!interactive_ || ImGui::CollapsingHeader("Graphs", ImGuiTreeNodeFlags_DefaultOpen)) drawGraphs(s);
+    if (!interactive_ || ImGui::CollapsingHeader("Profile and stats", ImGuiTreeNodeFlags_DefaultOpen)) drawGraphs(s);
     if (!error_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error_.c_str());
     ImGui::End();
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
 
-// One plot per series: its last seconds, with the latest value and the maximum shown.
+namespace {
+
+void plot(const char* id, const std::deque<float>& d, float height) {
+    std::vector<float> values(d.begin(), d.end());
+    const float top = values.empty() ? 1.f : *std::max_element(values.begin(), values.end());
+    ImGui::PlotLines(id, values.data(), int(values.size()), 0, nullptr, 0.f, std::max(top, 1e-3f) * 1.1f,
+                     ImVec2(ImGui::GetContentRegionAvail().x, height));
+}
+
+struct Summary {
+    float now = 0, mean = 0, max = 0;
+};
+Summary summarize(const std::deque<float>& d) {
+    Summary s;
+    if (d.empty()) return s;
+    s.now = d.back();
+    for (float v : d) s.mean += v / float(d.size()), s.max = std::max(s.max, v);
+    return s;
+}
+
+}  // namespace
+
+// The frame time and the flag's stretch and iterations as plots over the last seconds, then each
+// phase's milliseconds (now, mean, max) as a table; Bullet's zones folded away.
 void Panel::drawGraphs(const PanelState&) {
-    const float width = ImGui::GetContentRegionAvail().x;
+    const auto& series = history_->series;
+    auto line = [&](const char* name, const char* format) {
+        const auto it = series.find(name);
+        if (it == series.end()) return;
+        const Summary s = summarize(it->second);
+        ImGui::Text(format, s.now, s.max);
+        plot((std::string("##") + name).c_str(), it->second, 32);
+    };
+    line("frame", "frame %.2f ms (max %.2f)");
+    line("p99 stretch %", "p99 stretch %.2f%% (max %.2f)");
+    line("iterations / step", "solver iterations per step %.1f (max %.1f)");
+    const ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp;
+    if (!ImGui::BeginTable("phases", 4, flags)) return;
+    ImGui::TableSetupColumn("phase, ms");
+    ImGui::TableSetupColumn("now");
+    ImGui::TableSetupColumn("mean");
+    ImGui::TableSetupColumn("max");
+    ImGui::TableHeadersRow();
     for (const std::string& name : history_->order) {
-        const std::deque<float>& d = history_->series[name];
-        std::vector<float> values(d.begin(), d.end());
-        const float top = values.empty() ? 1.f : *std::max_element(values.begin(), values.end());
-        char label[128];
-        const bool ms = name.find('%') == std::string::npos && name.find("iterations") == std::string::npos;
-        std::snprintf(label, sizeof label, "%s  %.2f%s (max %.2f)", name.c_str(), values.empty() ? 0.f : values.back(),
-                      ms ? " ms" : "", top);
-        ImGui::TextUnformatted(label);
-        ImGui::PlotLines(("##" + name).c_str(), values.data(), int(values.size()), 0, nullptr, 0.f,
-                         std::max(top, 1e-3f) * 1.1f, ImVec2(width, 28));
+        if (name.rfind("bullet:", 0) == 0 || name.find(' ') != std::string::npos) continue;
+        const Summary s = summarize(series.at(name));
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(name.c_str());
+        for (float v : {s.now, s.mean, s.max}) {
+            ImGui::TableNextColumn();
+            ImGui::Text("%.2f", v);
+        }
     }
+    ImGui::EndTable();
+    const auto maxStretch = series.find("max stretch %");
+    if (maxStretch != series.end()) ImGui::Text("max stretch %.2f%%", summarize(maxStretch->second).now);
 }
 
 }  // namespace engine

@@ -36,7 +36,7 @@ bool Panel::editNumber(const std::string& label, double current,
 // Scene, restart, pause, step, reset, and what is running.
 void Panel::drawRun(const PanelState& s) {
     ImGui::Text("%s   t = %.2f s%s", s.scene.c_str(), s.simTime, s.paused ? "   (paused)" : "");
-    if (s.hasFlag) ImGui::Text("solver %s", s.solver.describe().c_str());
+    if (s.hasFlag) ImGui::TextWrapped("solver %s", s.solver.describe().c_str());
     if (!interactive_) return;
     if (s.switchNote.empty()) {
         if (ImGui::BeginCombo("scene", s.scene.c_str())) {

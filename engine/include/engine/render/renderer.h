@@ -45,7 +45,10 @@ class Renderer {
 public:
     // The context must be current. Throws std::runtime_error when GL functions are missing or a
     // shader does not compile (the message carries the compiler's log).
-    Renderer(GLContext& context, int shadowMapSize);
+    // msaaSamples > 1: the main pass is multisampled (clamped to what the context offers; none,
+    // with a note, when it offers none).
+    Renderer(GLContext& context, int shadowMapSize, int msaaSamples = 0);
+    int msaaSamples() const;  // in use
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
