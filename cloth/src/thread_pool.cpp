@@ -9,7 +9,7 @@ void chunk(int n, int parts, int index, int& begin, int& end) {
 }
 }  // namespace
 
-ThreadPool::ThreadPool(int threads) : threads_(threads < 1 ? 1 : threads) {
+ThreadPool::ThreadPool(int threads) : threads_(threads < 1 ? 1 : threads), spans_(std::size_t(threads_)) {
     for (int i = 1; i < threads_; ++i) workers_.emplace_back([this, i] { worker(i); });
 }
 
@@ -27,6 +27,7 @@ void ThreadPool::run(int n, const std::function<void(int, int)>& fn) {
     }
     job_ = &fn;
     n_ = n;
+    timed_ = bool(observer_);
     pending_.store(threads_ - 1, std::memory_order_relaxed);
     generation_.fetch_add(1, std::memory_order_acq_rel);  // publishes job_ and n_
     generation_.notify_all();
@@ -35,6 +36,8 @@ void ThreadPool::run(int n, const std::function<void(int, int)>& fn) {
     fn(begin, end);
     for (int spins = 0; pending_.load(std::memory_order_acquire) != 0; ++spins)
         if (spins > 1000) std::this_thread::yield();
+    if (timed_)
+        for (int w = 1; w < threads_; ++w) observer_(w, spans_[std::size_t(w)].begin, spans_[std::size_t(w)].end);
 }
 
 void ThreadPool::worker(int index) {
@@ -52,7 +55,9 @@ void ThreadPool::worker(int index) {
         if (stop_.load(std::memory_order_acquire)) return;
         int begin, end;
         chunk(n_, threads_, index, begin, end);
+        if (timed_) spans_[std::size_t(index)].begin = Clock::now();
         (*job_)(begin, end);
+        if (timed_) spans_[std::size_t(index)].end = Clock::now();
         pending_.fetch_sub(1, std::memory_order_acq_rel);
     }
 }

@@ -25,27 +25,33 @@ struct Event {
     std::string name, cat;
     double ts = 0, dur = 0;  // microseconds
     int frame = -1;          // a frame's args.frame
+    int tid = 0;
     double end() const { return ts + dur; }
     bool inside(const Event& o) const { return ts >= o.ts - kEps && end() <= o.end() + kEps; }
 };
 
 struct ParsedTrace {
-    std::vector<Event> frames, phases, zones;  // each by begin time
+    std::vector<Event> frames, phases, zones, workers;  // each by begin time
+    std::map<int, std::string> threadNames;
 };
 
 ParsedTrace parseTrace(const nlohmann::json& j) {
     ParsedTrace t;
     for (const auto& e : j.at("traceEvents")) {
+        if (e.at("ph") == "M" && e.at("name") == "thread_name")
+            t.threadNames[e.at("tid").get<int>()] = e.at("args").at("name").get<std::string>();
         if (e.at("ph") != "X") continue;
         Event ev{e.at("name").get<std::string>(), e.at("cat").get<std::string>(), e.at("ts").get<double>(),
                  e.at("dur").get<double>()};
+        ev.tid = e.at("tid").get<int>();
         if (e.contains("args") && e["args"].contains("frame")) ev.frame = e["args"]["frame"].get<int>();
         if (ev.cat == "frame") t.frames.push_back(ev);
         else if (ev.cat == "phase") t.phases.push_back(ev);
         else if (ev.cat == "bullet") t.zones.push_back(ev);
+        else if (ev.cat == "worker") t.workers.push_back(ev);
         else ADD_FAILURE() << "unknown category " << ev.cat;
     }
-    for (auto* v : {&t.frames, &t.phases, &t.zones})
+    for (auto* v : {&t.frames, &t.phases, &t.zones, &t.workers})
         std::stable_sort(v->begin(), v->end(), [](const Event& a, const Event& b) {
             return a.ts != b.ts ? a.ts < b.ts : a.dur > b.dur;
         });
@@ -220,4 +226,51 @@ TEST(RuntimeTrace, ATracePathInAFolderThatDoesNotExistIsRefusedBeforeTheRun) {
         EXPECT_NE(what.find("--trace"), std::string::npos) << what;
         EXPECT_NE(what.find(o.tracePath), std::string::npos) << what;
     }
+}
+
+// With the solver on two threads, the pool's second thread is on its own row, and each of its
+// spans lies inside the frame loop's span of the stage that split the work: the air inside an
+// "air" phase, the step inside one step's cloth_forces .. cloth_solve, the collisions inside a
+// "collision" phase.
+TEST(RuntimeTrace, TheClothPoolsWorkerRunsInsideThePhaseThatSplitItsWork) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / "flagsim_runtime_trace_workers";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    SceneConfig s = headlessVehicle();
+    ASSERT_TRUE(cloth::parseSolverConfig("multigrid:threads=2", s.flag.solver, nullptr));
+    RunOptions o;
+    o.frames = 20;
+    o.tracePath = (dir / "trace.json").string();
+    {
+        Runtime rt(s, o);
+        while (rt.frame()) {
+        }
+        ASSERT_EQ(rt.finish(), 0);
+    }
+    std::ifstream in(o.tracePath);
+    const ParsedTrace t = parseTrace(nlohmann::json::parse(in));
+    ASSERT_FALSE(t.workers.empty()) << "the pool's worker was not traced";
+    EXPECT_TRUE(nestingProblems(t).empty());
+    std::map<std::string, int> byStage;
+    for (const Event& w : t.workers) {
+        EXPECT_NE(w.tid, t.phases.front().tid) << "a worker on the frame loop's row";
+        EXPECT_EQ(t.threadNames.count(w.tid), 1u) << "worker row " << w.tid << " has no name";
+        ++byStage[w.name];
+        bool inside = false;
+        for (std::size_t i = 0; i < t.phases.size() && !inside; ++i) {
+            const Event& p = t.phases[i];
+            if (w.name == "cloth_step" && p.name == "cloth_forces") {
+                const auto solve = std::find_if(t.phases.begin() + long(i), t.phases.end(),
+                                                [](const Event& q) { return q.name == "cloth_solve"; });
+                inside = solve != t.phases.end() && w.ts >= p.ts - kEps && w.end() <= solve->end() + kEps;
+            } else if (w.name == p.name) {
+                inside = w.inside(p);
+            }
+        }
+        EXPECT_TRUE(inside) << w.name << " at " << w.ts << " us lies outside its stage";
+    }
+    EXPECT_GT(byStage["cloth_step"], 0);
+    EXPECT_GT(byStage["air"], 0);
+    fs::remove_all(dir);
 }

@@ -7,6 +7,7 @@
 // after that they sleep on the counter (futex), so an idle pool costs nothing.
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <thread>
 #include <vector>
@@ -24,6 +25,12 @@ public:
     // Calls fn(begin, end) for each chunk; the calling thread takes chunk 0. Returns when all are done.
     void run(int n, const std::function<void(int, int)>& fn);
 
+    // When each worker (1 .. threads-1) ran its chunk of a parallel region, told on the calling
+    // thread once the region is done (a profiler's timeline). Null, the default: nothing is timed.
+    using Clock = std::chrono::steady_clock;
+    using Observer = std::function<void(int worker, Clock::time_point begin, Clock::time_point end)>;
+    void setObserver(Observer observer) { observer_ = std::move(observer); }
+
 private:
     void worker(int index);
     int threads_;
@@ -33,6 +40,12 @@ private:
     std::atomic<bool> stop_{false};
     const std::function<void(int, int)>* job_ = nullptr;
     int n_ = 0;
+    Observer observer_;
+    bool timed_ = false;  // this region's workers time their chunks (published with the job)
+    struct Span {
+        Clock::time_point begin, end;
+    };
+    std::vector<Span> spans_;  // per worker, read once pending_ is 0
 };
 
 }  // namespace cloth

@@ -112,8 +112,10 @@ private:
     SolverCounts counts_;
     Trace* trace_ = nullptr;
     struct TraceNames {
-        int air = -1, forces = -1, solve = -1, collision = -1;
+        int air = -1, forces = -1, solve = -1, collision = -1, step = -1;
     } traceNames_;
+    int stage_ = -1;  // the trace name of what the solver's pool works on now (its workers' events)
+    void observeWorkers();
     long long steps_ = 0;
     int failures_ = 0;
     std::string firstFailure_;

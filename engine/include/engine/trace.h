@@ -4,8 +4,9 @@
 // the frames, the phases it times and Bullet's zones into it; the flag records its own phases
 // per step. A run without a trace records nothing: the recorders hold a null pointer.
 //
-// Events are recorded from the frame loop's thread only (the cloth library's workers are not
-// traced: its thread pool has no hooks, and the cloth library knows nothing of the engine).
+// Events are recorded from the frame loop's thread only. The cloth pool's workers' spans are
+// recorded there too, after each parallel region (cloth::ThreadPool::setObserver), on their own
+// thread rows ("cloth worker N").
 
 #include <chrono>
 #include <string>
@@ -17,7 +18,7 @@ namespace engine {
 class Trace {
 public:
     using Clock = std::chrono::steady_clock;
-    enum class Category { Frame, Phase, Zone };  // "frame", "phase", "bullet" in the file
+    enum class Category { Frame, Phase, Zone, Worker };  // "frame", "phase", "bullet", "worker" in the file
 
     struct Event {
         Clock::time_point begin;
@@ -25,6 +26,7 @@ public:
         int name;      // into names()
         Category category;
         int frame;     // the frame's index, for Frame events; -1 otherwise
+        int thread;    // 0: the frame loop; N: the cloth pool's worker N
     };
 
     // Timestamps are written in microseconds since origin.
@@ -36,8 +38,8 @@ public:
     int staticNameId(const char* name);
 
     void complete(int name, Category category, Clock::time_point begin, Clock::time_point end,
-                  int frame = -1) {
-        events_.push_back({begin, end - begin, name, category, frame});
+                  int frame = -1, int thread = 0) {
+        events_.push_back({begin, end - begin, name, category, frame, thread});
     }
 
     const std::vector<Event>& events() const { return events_; }

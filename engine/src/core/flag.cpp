@@ -83,6 +83,7 @@ void Flag::reconfigure(const SceneConfig& scene) {
     applySettings(scene);  // first: a bad solver leaves the flag as it was
     model_ = std::move(model);
     solver_->resetHistory();
+    observeWorkers();
 }
 
 void Flag::resetToRest(const RigidFrame& carrier) {
@@ -131,7 +132,21 @@ cloth::Collider Flag::poleCollider(const RigidFrame& carrier) const {
 void Flag::setTrace(Trace* trace) {
     trace_ = trace;
     if (trace) traceNames_ = {trace->nameId("air"), trace->nameId("cloth_forces"),
-                              trace->nameId("cloth_solve"), trace->nameId("collision")};
+                              trace->nameId("cloth_solve"), trace->nameId("collision"),
+                              trace->nameId("cloth_step")};
+    observeWorkers();
+}
+
+// The solver's pool tells when its workers ran; they become events on their own rows, named
+// after the stage that split the work (air, cloth_step, collision).
+void Flag::observeWorkers() {
+    if (!trace_) {
+        solver_->threadPool().setObserver(nullptr);
+        return;
+    }
+    solver_->threadPool().setObserver([this](int worker, Trace::Clock::time_point b, Trace::Clock::time_point e) {
+        trace_->complete(stage_, Trace::Category::Worker, b, e, -1, worker);
+    });
 }
 
 // The forces from the step's start, the solve (with the integration after it) up to its end;
@@ -157,6 +172,7 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
     if (air_ && solver_->couplesAir()) {
         input.air = &airParams_;  // the solver evaluates the air at every iterate (its time is the solver's)
     } else if (air_) {
+        stage_ = traceNames_.air;
         const auto t0 = Clock::now();
         airForce_.setZero(3, model_.particleCount());
         cloth::addAirForces(model_, state_, airParams_, airForce_, implicitAir_ ? &airJacobian_ : nullptr,
@@ -170,6 +186,7 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
         timings_.air += Profiler::ms(t1 - t0);
         if (trace_) trace_->complete(traceNames_.air, Trace::Category::Phase, t0, t1);
     }
+    stage_ = traceNames_.step;
     const auto stepBegin = trace_ ? Clock::now() : Clock::time_point{};
     const cloth::StepResult r = solver_->step(model_, env_, state_, input);
     if (trace_) traceStep(stepBegin, Clock::now());
@@ -186,6 +203,7 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
         return false;
     }
     if (collision_ && !colliders.empty()) {
+        stage_ = traceNames_.collision;
         const auto t0 = Clock::now();
         cloth::resolveCollisions(colliders, thickness_, &collisionSkip_, state_, &solver_->threadPool(),
                                  &collisionWorkspace_);

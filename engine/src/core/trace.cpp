@@ -18,6 +18,7 @@ const char* categoryName(Trace::Category c) {
         case Trace::Category::Frame: return "frame";
         case Trace::Category::Phase: return "phase";
         case Trace::Category::Zone: return "bullet";
+        case Trace::Category::Worker: return "worker";
     }
     return "?";
 }
@@ -27,8 +28,8 @@ double micros(Trace::Clock::duration d) {
     return double(std::chrono::duration_cast<std::chrono::nanoseconds>(d).count()) / 1000.0;
 }
 
-nlohmann::json metadata(const char* what, const char* name) {
-    return {{"ph", "M"}, {"name", what}, {"pid", kPid}, {"tid", kFrameLoopTid}, {"args", {{"name", name}}}};
+nlohmann::json metadata(const char* what, const std::string& name, int tid = kFrameLoopTid) {
+    return {{"ph", "M"}, {"name", what}, {"pid", kPid}, {"tid", tid}, {"args", {{"name", name}}}};
 }
 
 }  // namespace
@@ -62,6 +63,10 @@ std::string Trace::json() const {
     std::string out = "{\"traceEvents\":[\n";
     out += metadata("process_name", "flagsim").dump() + ",\n";
     out += metadata("thread_name", "frame loop").dump();
+    int workers = 0;
+    for (const Event& e : events_) workers = std::max(workers, e.thread);
+    for (int w = 1; w <= workers; ++w)
+        out += ",\n" + metadata("thread_name", "cloth worker " + std::to_string(w), kFrameLoopTid + w).dump();
     for (const std::size_t i : order) {
         const Event& e = events_[i];
         nlohmann::json j = {{"ph", "X"},
@@ -70,7 +75,7 @@ std::string Trace::json() const {
                             {"ts", micros(e.begin - origin_)},
                             {"dur", micros(e.duration)},
                             {"pid", kPid},
-                            {"tid", kFrameLoopTid}};
+                            {"tid", kFrameLoopTid + e.thread}};
         if (e.frame >= 0) j["args"] = {{"frame", e.frame}};
         out += ",\n" + j.dump();
     }
