@@ -1,7 +1,8 @@
 // The live panel in a window, driven by synthetic SDL events as a user's mouse and keyboard
 // would: it switches the flag's solver from the paper's step to multigrid and back while the
-// vehicle drives, and the recorded input (actions and the panel's commands) replays to the same
-// frames, bit for bit. Needs a display: ctest runs it under xvfb-run; without one it skips.
+// vehicle drives, a drag outside it orbits the camera, and the recorded input (actions, the
+// panel's commands, the orbit) replays to the same frames, bit for bit. Needs a display: ctest
+// runs it under xvfb-run; without one it skips.
 
 #include <gtest/gtest.h>
 
@@ -35,12 +36,12 @@ SDL_Event key(Uint32 type, SDL_Scancode code) {
     return e;
 }
 
-SDL_Event mouse(Uint32 type, int x, int y) {
+SDL_Event mouse(Uint32 type, int x, int y, int dx = 0) {
     SDL_Event e{};
     e.type = type;
     if (type == SDL_MOUSEMOTION) {
         e.motion.windowID = SDL_GetWindowID(SDL_GL_GetCurrentWindow());
-        e.motion.x = x, e.motion.y = y;
+        e.motion.x = x, e.motion.y = y, e.motion.xrel = dx;
     } else {
         e.button.windowID = SDL_GetWindowID(SDL_GL_GetCurrentWindow());
         e.button.button = SDL_BUTTON_LEFT;
@@ -95,6 +96,12 @@ TEST(Panel, SwitchesTheSolverWhileDrivingAndTheRecordedInputReplaysToTheSameFram
             const int x = int(((*rect)[0] + (*rect)[2]) / 2), y = int(((*rect)[1] + (*rect)[3]) / 2);
             e = mouse(f == at ? SDL_MOUSEMOTION : f == at + 1 ? SDL_MOUSEBUTTONDOWN : SDL_MOUSEBUTTONUP, x, y);
         }
+        // A drag outside the panel (it is 380 pixels wide at the left): the camera orbits. The
+        // mouse moves there first, as a real one does, so the panel knows it has left.
+        if (f == 99) e = mouse(SDL_MOUSEMOTION, 600, 300);
+        if (f == 100) e = mouse(SDL_MOUSEBUTTONDOWN, 600, 300);
+        if (f == 101) e = mouse(SDL_MOUSEMOTION, 680, 300, 80);
+        if (f == 102) e = mouse(SDL_MOUSEBUTTONUP, 680, 300);
         if (e.type) SDL_PushEvent(&e);
     };
     std::vector<std::uint64_t> live;
@@ -111,10 +118,12 @@ TEST(Panel, SwitchesTheSolverWhileDrivingAndTheRecordedInputReplaysToTheSameFram
     EXPECT_EQ(solvers.at(50), "multigrid");
     EXPECT_EQ(solvers.at(140), "kangcho");
     const InputScript script = InputScript::load(recorded);
-    ASSERT_EQ(script.events().size(), 2u);
+    ASSERT_EQ(script.events().size(), 3u);
     EXPECT_EQ(script.events()[0].command.name, "solver");
     EXPECT_EQ(script.events()[0].command.value.rfind("multigrid", 0), 0u);
     EXPECT_EQ(script.events()[1].command.value.rfind("kangcho", 0), 0u);
+    EXPECT_EQ(script.events()[2].command.name, "camera");
+    EXPECT_EQ(script.events()[2].command.value.rfind("-24.000,", 0), 0u) << "80 pixels at 0.3 degrees each";
     double throttle = 0;
     for (const auto& k : script.keyframes()) throttle = std::max(throttle, k.actions.throttle);
     EXPECT_EQ(throttle, 1.0) << "the keyboard drove";

@@ -149,3 +149,30 @@ TEST(RuntimeRender, FourSampleAntiAliasingIsCloseToTwiceTheResolutionAveragedOnE
     EXPECT_LT(toMsaa, 0.7 * toAliased) << "mean difference on " << edges << " edge channels: " << toMsaa / edges
                                        << " vs " << toAliased / edges;
 }
+
+// --overlay draws the panel into the recorded frames, in its own profile phase, and nowhere else:
+// the frame matches the one without it outside the panel's corner, and differs inside it.
+TEST(RuntimeRender, TheOverlayIsInItsOwnPhaseAndOnlyInThePanelsCorner) {
+    const SceneConfig s = small("flag_vehicle", 960, 540);
+    RunOptions o;
+    o.frames = 10;
+    Runtime plain(s, o);
+    o.overlay = true;
+    Runtime overlay(s, o);
+    while (plain.frame() && overlay.frame()) {
+    }
+    EXPECT_NE(overlay.profiler().phaseId("overlay"), -1);
+    EXPECT_EQ(plain.profiler().phaseId("overlay"), -1);
+    const auto& a = plain.pixels();
+    const auto& b = overlay.pixels();
+    ASSERT_EQ(a.size(), b.size());
+    std::size_t inside = 0, outside = 0;
+    for (int y = 0; y < 540; ++y)
+        for (int x = 0; x < 960; ++x) {
+            const std::size_t i = (std::size_t(y) * 960 + x) * 4;
+            const bool differs = a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2];
+            (x < 8 + 330 + 2 ? inside : outside) += differs;
+        }
+    EXPECT_GT(inside, 20000u) << "the panel is not in the frame";
+    EXPECT_EQ(outside, 0u) << "the overlay drew outside its corner";
+}
