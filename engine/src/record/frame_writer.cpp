@@ -15,22 +15,18 @@ void pngError(png_structp png, png_const_charp) { png_longjmp(png, 1); }
 void pngWarning(png_structp, png_const_charp) {}
 }  // namespace
 
-bool writePng(const std::string& path, int width, int height, const std::uint8_t* rgba, std::string* error) {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f) {
-        if (error) *error = path + ": cannot open for writing: " + std::strerror(errno);
-        return false;
-    }
+namespace {
+
+// The libpng part, with no C++ object alive across its setjmp (a longjmp could clobber one).
+// 0 when written; else errno from a failed write inside libpng, or -1 for an encoder error.
+int encodePng(std::FILE* f, int width, int height, const std::uint8_t* rgba) {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, &pngError, &pngWarning);
     png_infop info = png ? png_create_info_struct(png) : nullptr;
     errno = 0;
     if (!png || !info || setjmp(png_jmpbuf(png))) {
         const int err = errno;  // a failed fwrite inside libpng leaves the reason here
         png_destroy_write_struct(&png, &info);
-        std::fclose(f);
-        if (error) *error = path + ": cannot write PNG: " + (err ? std::strerror(err) : "encoder error") +
-                            (err == ENOSPC ? " (disk full)" : "");
-        return false;
+        return err ? err : -1;
     }
     png_init_io(png, f);
     // Level 1 with the Sub filter: most of the size win for a fraction of the default's time.
@@ -42,6 +38,24 @@ bool writePng(const std::string& path, int width, int height, const std::uint8_t
     for (int y = 0; y < height; ++y) png_write_row(png, rgba + std::size_t(y) * width * 4);
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
+    return 0;
+}
+
+}  // namespace
+
+bool writePng(const std::string& path, int width, int height, const std::uint8_t* rgba, std::string* error) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) {
+        if (error) *error = path + ": cannot open for writing: " + std::strerror(errno);
+        return false;
+    }
+    const int err = encodePng(f, width, height, rgba);
+    if (err != 0) {
+        std::fclose(f);
+        if (error) *error = path + ": cannot write PNG: " + (err > 0 ? std::strerror(err) : "encoder error") +
+                            (err == ENOSPC ? " (disk full)" : "");
+        return false;
+    }
     const bool flushed = std::fflush(f) == 0;
     const bool closed = std::fclose(f) == 0;
     if (!flushed || !closed) {
