@@ -30,29 +30,27 @@ std::string inRange(const std::string& text, double lo, double hi, bool loOpen) 
     return {};
 }
 
-std::string checkWind(const std::string& text) {
+// Three numbers "a,b,c", each in its range; `names` says what they are ("x,y,z").
+std::string checkTriple(const std::string& text, const double lo[3], const double hi[3], const char* names) {
     std::vector<std::string> parts;
     std::stringstream s(text);
     for (std::string p; std::getline(s, p, ',');) parts.push_back(p);
-    if (parts.size() != 3) return "must be three numbers x,y,z";
-    for (const std::string& p : parts) {
-        const std::string why = inRange(p, -100, 100, false);
-        if (!why.empty()) return "component '" + p + "' " + why;
+    if (parts.size() != 3) return std::string("must be three numbers ") + names;
+    for (std::size_t i = 0; i < 3; ++i) {
+        const std::string why = inRange(parts[i], lo[i], hi[i], false);
+        if (!why.empty()) return "component '" + parts[i] + "' " + why;
     }
     return {};
 }
 
+std::string checkWind(const std::string& text) {
+    const double lo[3] = {-100, -100, -100}, hi[3] = {100, 100, 100};
+    return checkTriple(text, lo, hi, "x,y,z");
+}
+
 std::string checkCamera(const std::string& text) {
-    std::vector<std::string> parts;
-    std::stringstream s(text);
-    for (std::string p; std::getline(s, p, ',');) parts.push_back(p);
-    if (parts.size() != 3) return "must be three numbers yaw,pitch,zoom";
     const double lo[3] = {-180, -80, 0.2}, hi[3] = {180, 80, 5};
-    for (int i = 0; i < 3; ++i) {
-        const std::string why = inRange(parts[std::size_t(i)], lo[i], hi[i], false);
-        if (!why.empty()) return "component '" + parts[std::size_t(i)] + "' " + why;
-    }
-    return {};
+    return checkTriple(text, lo, hi, "yaw,pitch,zoom");
 }
 
 std::string checkSolver(const std::string& text) {
