@@ -110,6 +110,13 @@ TEST(Panel, SwitchesTheSolverWhileDrivingAndTheRecordedInputReplaysToTheSameFram
         Runtime rt(drivingScene(), o);
         live = run(rt, user);
         liveEnd = rt.flag()->state();
+        // The solver section is the solver table: every kind, and each key of the kind running.
+        for (const std::string& kind : cloth::solverKindNames())
+            EXPECT_TRUE(rt.widgetRect("solver " + kind)) << "no radio button for " << kind;
+        for (const cloth::SolverKeyInfo& key : cloth::solverKeys(rt.scene().flag.solver)) {
+            const std::string label = key.choices.empty() ? key.name : key.name + " " + key.choices.front();
+            EXPECT_TRUE(rt.widgetRect(label)) << "no widget for kangcho's key " << label;
+        }
         ASSERT_EQ(rt.finish(), 0);
     }
     ASSERT_EQ(live.size(), 150u);
