@@ -426,9 +426,9 @@ std::vector<SolverKeyInfo> solverKeys(const SolverConfig& config) {
         SolverKeyInfo info;
         info.name = k.name, info.doc = k.doc;
         info.type = SolverKeyInfo::Type(int(k.type));
-        info.min = k.min, info.max = k.max, info.choices = k.choices;
+        info.range = k.range();
+        info.choices = k.choices;
         info.value = k.get(config);
-        info.text = k.text(config);
         out.push_back(std::move(info));
     }
     return out;

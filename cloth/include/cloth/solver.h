@@ -141,10 +141,9 @@ struct SolverKeyInfo {
     enum class Type { Integer, Real, Choice };
     std::string name, doc;
     Type type = Type::Integer;
-    double min = 0, max = 0;           // Integer, Real: the allowed range
+    std::string range;                 // "[0, 100000]", "fast|gather|reference"
     std::vector<std::string> choices;  // Choice: the allowed words
     double value = 0;                  // Choice: the index of the word
-    std::string text;                  // the value as the parser reads it
 };
 std::vector<std::string> solverKindNames();
 std::vector<SolverKeyInfo> solverKeys(const SolverConfig& config);

@@ -20,7 +20,6 @@ public:
     // `samples` clamped to what the context offers; false (and *why) when it offers none or the
     // framebuffer is incomplete, leaving nothing behind.
     bool create(const gl::Api& gl, int width, int height, int samples, std::string* why);
-    int samples() const { return samples_; }
     void bind() const;     // the main pass draws here
     void resolve() const;  // into framebuffer 0, then binds it
 

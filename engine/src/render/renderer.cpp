@@ -304,8 +304,6 @@ Renderer::Renderer(GLContext& context, int shadowMapSize, int msaaSamples) : imp
     }
 }
 
-int Renderer::msaaSamples() const { return impl_->msaa ? impl_->msaa->samples() : 0; }
-
 Renderer::~Renderer() {
     Impl& m = *impl_;
     auto& gl = m.gl;

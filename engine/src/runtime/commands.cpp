@@ -28,8 +28,8 @@ void Runtime::Impl::applyCommands() {
 
 namespace {
 
-// The flag's settings a command changes, in a copy of the scene (false: not a flag setting).
-bool changeFlagSettings(SceneConfig& s, const Command& c) {
+// The flag setting a command changes, in a copy of the scene (apply() has taken every other command).
+void changeFlagSettings(SceneConfig& s, const Command& c) {
     if (c.name == "solver") {
         std::string error;
         if (!cloth::parseSolverConfig(c.value, s.flag.solver, &error)) throw ConfigError(error);
@@ -41,8 +41,7 @@ bool changeFlagSettings(SceneConfig& s, const Command& c) {
     else if (c.name == "wind") {
         const std::vector<double> w = commandVector(c);
         s.air.wind = cloth::Vec3(w[0], w[1], w[2]);
-    } else return false;
-    return true;
+    }
 }
 
 }  // namespace

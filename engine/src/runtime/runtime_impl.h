@@ -66,7 +66,6 @@ struct Runtime::Impl {
     // applied and recorded, and what the panel shows.
     void applyCommands();
     void apply(const Command& command);
-    void takeRequests();
     PanelState panelState() const;
     void readInput();
     void endFrame();

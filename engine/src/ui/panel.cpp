@@ -6,6 +6,7 @@
 #include <backends/imgui_impl_opengl3.h>
 
 #include <algorithm>
+#include <deque>
 #include <cstdio>
 #include <stdexcept>
 

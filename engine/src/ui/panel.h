@@ -9,9 +9,7 @@
 // The solver's section is generated from the solver table (cloth::solverKeys), so the panel,
 // --help and the README list the same kinds and keys.
 
-#include <Eigen/Core>
 #include <array>
-#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -19,9 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "cloth/model.h"
 #include "cloth/solver.h"
-#include "engine/command.h"
 #include "ui/panel_types.h"
 
 struct ImGuiContext;

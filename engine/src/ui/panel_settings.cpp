@@ -110,7 +110,7 @@ void Panel::drawSolverKey(const PanelState& s, const cloth::SolverKeyInfo& key) 
         };
         if (editNumber(key.name, key.value, field, &v)) text = number(integer ? std::round(v) : v);
     }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", key.doc.c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s (%s)", key.doc.c_str(), key.range.c_str());
     if (text.empty()) return;
     cloth::SolverConfig config = s.solver;
     std::string error;

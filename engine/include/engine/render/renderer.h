@@ -48,7 +48,6 @@ public:
     // msaaSamples > 1: the main pass is multisampled (clamped to what the context offers; none,
     // with a note, when it offers none).
     Renderer(GLContext& context, int shadowMapSize, int msaaSamples = 0);
-    int msaaSamples() const;  // in use
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
