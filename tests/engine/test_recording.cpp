@@ -1,5 +1,6 @@
 // Recording integrity: an interrupted recording leaves only complete frames and a valid profile;
-// a full disk is a clear error; an existing output folder is not overwritten without --force.
+// a full disk is a clear error; an existing output folder is not overwritten without --force; the
+// summary counts the solver's iterations.
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -85,6 +86,28 @@ TEST(Recording, InterruptedRunLeavesOnlyCompleteFramesAndAValidProfile) {
         EXPECT_EQ(rows, summary["frames"].get<int>());
         EXPECT_EQ(rows, frames);
     }
+}
+
+// kangcho with three Jacobi sweeps reports three iterations every step and no linear solve; newton
+// capped at two iterations reports one or two, each with at least one GMRES iteration.
+TEST(Recording, TheSummaryCountsTheSolversIterationsPerStep) {
+    const auto cloth = [](const std::string& solver) {
+        const fs::path out = freshDir("flagsim_iterations");
+        const pid_t pid = spawnDemo({"--scene", "hanging_flag", "--out", out.string(), "--frames", "12", "--force",
+                                     "--no-frames", "--width", "160", "--height", "120", "--solver", solver});
+        EXPECT_EQ(waitExit(pid), 0) << solver;
+        std::ifstream summaryFile(out / "summary.json");
+        return nlohmann::json::parse(summaryFile)["cloth"];
+    };
+    const auto jacobi = cloth("kangcho:iterations=3");
+    EXPECT_GT(jacobi["steps"].get<int>(), 0);
+    EXPECT_EQ(jacobi["iterations_mean"].get<double>(), 3.0);
+    EXPECT_EQ(jacobi["iterations_max"].get<int>(), 3);
+    EXPECT_EQ(jacobi["linear_iterations_mean"].get<double>(), 0.0);
+    const auto newton = cloth("newton:max_iterations=2");
+    EXPECT_GE(newton["iterations_mean"].get<double>(), 1.0);
+    EXPECT_LE(newton["iterations_max"].get<int>(), 2);
+    EXPECT_GE(newton["linear_iterations_mean"].get<double>(), newton["iterations_mean"].get<double>());
 }
 
 TEST(Recording, ExistingOutputFolderNeedsForce) {

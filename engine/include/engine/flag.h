@@ -48,7 +48,8 @@ struct FlagTimings {  // milliseconds, summed since the last reset
 
 struct SolverCounts {  // the solver's iterations (StepResult), summed over the steps since construction
     long long iterations = 0;
-    int maxIterations = 0;  // the most in one step
+    int maxIterations = 0;         // the most in one step
+    long long linearIterations = 0;  // newton: GMRES iterations (StepResult::linearIterations)
 };
 
 class Flag {

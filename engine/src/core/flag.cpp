@@ -195,6 +195,7 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
     ++steps_;
     counts_.iterations += r.iterations;
     counts_.maxIterations = std::max(counts_.maxIterations, r.iterations);
+    counts_.linearIterations += r.linearIterations;
     if (r.status != cloth::StepStatus::Ok) {
         if (failures_++ == 0)
             firstFailure_ = "cloth step " + std::to_string(steps_) + ": " +

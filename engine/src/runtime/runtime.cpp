@@ -345,6 +345,11 @@ int Runtime::finish() {
     f.maxPinError = m.maxPinError;
     if (m.flag) {
         f.clothSteps = m.flag->steps();
+        const SolverCounts& counts = m.flag->solverCounts();
+        const double steps = double(std::max<long long>(f.clothSteps, 1));
+        f.iterationsMean = double(counts.iterations) / steps;
+        f.linearIterationsMean = double(counts.linearIterations) / steps;
+        f.iterationsMax = counts.maxIterations;
         f.clothFailures = m.flag->failures();
         f.firstClothFailure = m.flag->firstFailure();
     }

@@ -23,7 +23,10 @@ bool writeSummary(const std::string& path, const RunFacts& f, const Profiler& pr
     j["cloth"] = {{"steps", f.clothSteps},
                   {"failures", f.clothFailures},
                   {"first_failure", f.firstClothFailure},
-                  {"max_pin_error_m", f.maxPinError}};
+                  {"max_pin_error_m", f.maxPinError},
+                  {"iterations_mean", f.iterationsMean},
+                  {"iterations_max", f.iterationsMax},
+                  {"linear_iterations_mean", f.linearIterationsMean}};
     j["recording"] = {{"frames_written", f.framesWritten}, {"video", f.video}, {"error", f.writerError}};
     nlohmann::json phases = nlohmann::json::object();
     const auto cols = profiler.columns();

@@ -13,6 +13,8 @@ struct RunFacts {
     int frames = 0, width = 0, height = 0;
     double simTime = 0, wallSeconds = 0, maxPinError = 0;
     long long clothSteps = 0;
+    double iterationsMean = 0, linearIterationsMean = 0;  // the solver's, per cloth step
+    int iterationsMax = 0;
     int clothFailures = 0;
     std::string firstClothFailure;
     int framesWritten = 0;
