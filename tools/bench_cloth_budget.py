@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """The cloth's share of a demo frame: per frame, air + cloth_forces + cloth_solve + collision
-(profile.csv of a flagsim run), mean and 99th percentile, against a real-time budget.
+(profile.csv of a flagsim run), mean and 99th percentile, against a real-time budget, and the
+mean's ratio to the demo's run at the same size in the same call (LABEL without "_stiff").
 
     tools/bench_cloth_budget.py LABEL:BUDGET_MS:PROFILE_CSV ...
 """
@@ -11,8 +12,9 @@ PHASES = ["air", "cloth_forces", "cloth_solve", "collision"]
 
 
 def main():
-    print("| run | frames | cloth mean (ms/frame) | cloth p99 | budget | within |")
-    print("|---|---|---|---|---|---|")
+    print("| run | frames | cloth mean (ms/frame) | cloth p99 | budget | within | x demo |")
+    print("|---|---|---|---|---|---|---|")
+    means = {}
     for arg in sys.argv[1:]:
         label, budget, path = arg.split(":", 2)
         with open(path, newline="") as f:
@@ -22,7 +24,11 @@ def main():
             sys.exit(f"{path}: no frames")
         mean = sum(sums) / len(sums)
         p99 = sums[min(len(sums) - 1, int(0.99 * len(sums)))]
-        print(f"| {label} | {len(sums)} | {mean:.2f} | {p99:.2f} | {float(budget):g} | {'yes' if mean <= float(budget) else 'no'} |")
+        means[label] = mean
+        demo = means.get(label.replace("_stiff", ""))
+        ratio = f"{mean / demo:.1f}" if demo else ""
+        print(f"| {label} | {len(sums)} | {mean:.2f} | {p99:.2f} | {float(budget):g} | "
+              f"{'yes' if mean <= float(budget) else 'no'} | {ratio} |")
 
 
 if __name__ == "__main__":
