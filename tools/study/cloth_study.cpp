@@ -696,7 +696,12 @@ int main(int argc, char** argv) {
                  {"stiff_newton_bdf2_240", "newton:integrator=bdf2", 1, -1, true, 240},
                  {"stiff_newton_bdf2_120", "newton:integrator=bdf2", 1, -1, true, 120},
                  {"stiff_newton_bdf2_60", "newton:integrator=bdf2", 1, -1, true, 60},
-                 {"stiff_newton_midpoint_60", "newton:integrator=midpoint", 1, -1, true, 60}})
+                 {"stiff_newton_midpoint_60", "newton:integrator=midpoint", 1, -1, true, 60},
+                 // the shipped step with fewer iterations allowed, or a looser stop
+                 {"stiff_newton_bdf2_60_cap_4", "newton:integrator=bdf2,max_iterations=4", 1, -1, true, 60},
+                 {"stiff_newton_bdf2_60_cap_5", "newton:integrator=bdf2,max_iterations=5", 1, -1, true, 60},
+                 {"stiff_newton_bdf2_60_cap_6", "newton:integrator=bdf2,max_iterations=6", 1, -1, true, 60},
+                 {"stiff_newton_bdf2_60_loose", "newton:integrator=bdf2,tolerance=0.01", 1, -1, true, 60}})
             variants.push_back(v);
     }
     for (const std::string& item : extraStiff) {  // NAME=SPEC@HZ
