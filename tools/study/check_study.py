@@ -826,6 +826,25 @@ def c_shipped_step_rests_on_its_cap(docs):
     return "each of caps 4, 5, 6 and the 1 cm/s stop loses one case the shipped cap of 8 holds; spin and teleport at the cap"
 
 
+def c_stiff_flag_at_65(docs):
+    rows = docs.rows("stiff_extreme_65.csv")
+    at = lambda c, x: one(rows, "stiff_extreme_65.csv", config=c, case=x, size="65")
+    for x in reference_table.CASES:  # the scene's solver is the shipped step, bit for bit
+        a, b = at("stiff_default", x), at("stiff_newton_bdf2_60", x)
+        need(all(a[k] == b[k] for k in ("stable", "p99_stretch", "peak_stretch", "ke_late")), f"{x}: stiff_default is not bdf2_60")
+    ranked = {e["config"]: e for e in reference_table.ranking(rows, 65)}
+    need(all(len(e["judged"]) == 6 for e in ranked.values()), "stiff_extreme_65.csv: a configuration not judged in all six cases")
+    stretch = lambda e: sorted(x for x, m in e["judged"].items() if {"unstable", "p99", "peak"} & set(m))
+    need(max(e["stretch"] for e in ranked.values()) == 5, "stiff_extreme_65.csv: a configuration within the bounds in all six (docs: none)")
+    need(stretch(ranked["stiff_newton_bdf2_60"]) == ["gale_40mps", "teleport_1m"],
+         f"the shipped step misses {stretch(ranked['stiff_newton_bdf2_60'])} (docs: the gale and the teleport)")
+    need(not stable(at("stiff_newton_bdf2_60", "teleport_1m")), "the shipped step stable in the teleport (docs: not)")
+    need(stretch(ranked["stiff_newton_bdf2_240"]) == ["stop_10g"], f"bdf2 240 misses {stretch(ranked['stiff_newton_bdf2_240'])} (docs: the stop)")
+    for c in ("stiff_multigrid", "stiff_exact"):
+        need(num(at(c, "gale_40mps")["p99_stretch"]) > 0.5 and not stable(at(c, "light_particles")), f"{c}: gale / light (docs: fail)")
+    return "at 65x65 none holds all six; the shipped step loses the gale and the teleport, BDF2 at 240 Hz the stop's peak"
+
+
 DOC_CHECKS = [
     # docs/study.md, part 1
     ("paper_step_leaves_solve_error", c_paper_step_leaves_solve_error),
@@ -875,6 +894,7 @@ DOC_CHECKS = [
     ("implicit_steps_damp_the_flutter", c_implicit_steps_damp_the_flutter),
     ("midpoint_unstable", c_midpoint_unstable),
     ("shipped_step_rests_on_its_cap", c_shipped_step_rests_on_its_cap),
+    ("stiff_flag_at_65", c_stiff_flag_at_65),
 ]
 
 
