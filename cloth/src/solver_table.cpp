@@ -73,6 +73,7 @@ const std::vector<SolverKind>& solverKinds() {
     using C = ChebyshevSettings;
     using X = ExplicitSettings;
     using N = NewtonSettings;
+    using P = XpbdSettings;
     static const std::vector<SolverKind> kinds = {
         {"kangcho", "the paper: dv(0) and Jacobi sweeps of the linearized backward Euler system (eqs. 11, 14)",
          defaultsTo<K>,
@@ -113,6 +114,14 @@ const std::vector<SolverKind>& solverKinds() {
                integer<N>("threads", &N::threads, 1, 64, "worker threads (bit-identical results for any count)")},
               true),
          {}, makeNewtonSolver},
+        {"xpbd", "the springs as compliant constraints (compliance 1/k), Gauss-Seidel projection; in small steps",
+         defaultsTo<P>,
+         with({shown(integer<P>("iterations", &P::iterations, 1, 10000, "passes over the springs per step")),
+               shown(choice<P, bool>("chains", &P::chains, {{"on", true}, {"off", false}},
+                                     "on: a grid's rows and columns of structural springs each a chain solved at once "
+                                     "(tridiagonal), the rest Gauss-Seidel; off: all Gauss-Seidel"))},
+              false),
+         {}, makeXpbdSolver},
     };
     return kinds;
 }

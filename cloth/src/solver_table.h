@@ -157,5 +157,6 @@ std::unique_ptr<Solver> makeChebyshevSolver(const SolverConfig& config);
 std::unique_ptr<Solver> makeDesbrunSolver(const SolverConfig& config);
 std::unique_ptr<Solver> makeExplicitSolver(const SolverConfig& config);
 std::unique_ptr<Solver> makeNewtonSolver(const SolverConfig& config);
+std::unique_ptr<Solver> makeXpbdSolver(const SolverConfig& config);
 
 }  // namespace cloth

@@ -848,6 +848,31 @@ def c_stiff_flag_at_65(docs):
     return "at 65x65 none holds all six; the shipped step loses the gale and the teleport, BDF2 at 240 Hz the stop's peak"
 
 
+
+def c_xpbd_keeps_flutter_not_stretch(docs):
+    rows = docs.rows("stiff_xpbd.csv")
+    at = lambda c, x: one(rows, "stiff_xpbd.csv", config=c, case=x, size="33")
+    ranked = {e["config"]: e for e in reference_table.ranking(rows, 33)}
+    need(len(ranked) == 10 and all(len(e["judged"]) == 6 for e in ranked.values()), "stiff_xpbd.csv: ten configurations in six cases")
+    in_band = sorted(c for c, e in ranked.items() if all(0.5 <= r <= 2 for r in e["energy"]))
+    want = ["stiff_xpbd_1920", "stiff_xpbd_3840", "stiff_xpbd_960", "stiff_xpbd_960_4"]
+    need(in_band == want, f"stiff_xpbd.csv: the energy in the band at 50 m/s and in the gale for {in_band} (docs: {want})")
+    need(max(e["stretch"] for e in ranked.values()) == 2, "stiff_xpbd.csv: a configuration within the stretch bounds in more than two cases (docs: none)")
+    need(all(ranked[c]["stretch"] == 0 for c in want), "stiff_xpbd.csv: a configuration that keeps the flutter also within a stretch bound (docs: none)")
+    damped = ranked["stiff_xpbd_960_16"]
+    need("gale_40mps" not in stretch_misses(damped) and max(damped["energy"]) < 0.5, "16 passes at 960 Hz: the gale's stretch in bounds, its energy under 0.5x (docs)")
+    for c in ("stiff_xpbd_480", "stiff_xpbd_960", "stiff_xpbd_960_4", "stiff_xpbd_960_16", "stiff_xpbd_chains_960"):
+        need(not stable(at(c, "light_particles")), f"{c} stable with light particles (docs: unstable below 1920 Hz)")
+    for c in ("stiff_xpbd_1920", "stiff_xpbd_3840", "stiff_xpbd_1920_4", "stiff_xpbd_chains_1920", "stiff_xpbd_chains_3840"):
+        need(stable(at(c, "light_particles")), f"{c} unstable with light particles (docs: stable from 1920 Hz)")
+    lower = sum(num(at(f"stiff_xpbd_chains_{hz}", x)["p99_stretch"]) < num(at(f"stiff_xpbd_{hz}", x)["p99_stretch"])
+                for hz in (960, 1920, 3840) for x in reference_table.CASES)
+    need(lower == 16, f"chains lower p99 stretch than Gauss-Seidel in {lower} of 18 runs (docs: 16)")
+    need(all(ranked[f"stiff_xpbd_chains_{hz}"]["energy"][0] < ranked[f"stiff_xpbd_{hz}"]["energy"][0] for hz in (960, 1920, 3840)),
+         "chains keep more of the 50 m/s flutter than Gauss-Seidel at some rate (docs: less at each)")
+    return (f"xpbd keeps 0.5-2x of the flutter at {', '.join(want)}, none within the stretch bounds in more than two cases; "
+            "light particles unstable below 1920 Hz")
+
 DOC_CHECKS = [
     # docs/study.md, part 1
     ("paper_step_leaves_solve_error", c_paper_step_leaves_solve_error),
@@ -898,6 +923,7 @@ DOC_CHECKS = [
     ("midpoint_unstable", c_midpoint_unstable),
     ("shipped_step_rests_on_its_cap", c_shipped_step_rests_on_its_cap),
     ("stiff_flag_at_65", c_stiff_flag_at_65),
+    ("xpbd_keeps_flutter_not_stretch", c_xpbd_keeps_flutter_not_stretch),
 ]
 
 

@@ -701,7 +701,19 @@ int main(int argc, char** argv) {
                  {"stiff_newton_bdf2_60_cap_4", "newton:integrator=bdf2,max_iterations=4", 1, -1, true, 60},
                  {"stiff_newton_bdf2_60_cap_5", "newton:integrator=bdf2,max_iterations=5", 1, -1, true, 60},
                  {"stiff_newton_bdf2_60_cap_6", "newton:integrator=bdf2,max_iterations=6", 1, -1, true, 60},
-                 {"stiff_newton_bdf2_60_loose", "newton:integrator=bdf2,tolerance=0.01", 1, -1, true, 60}})
+                 {"stiff_newton_bdf2_60_loose", "newton:integrator=bdf2,tolerance=0.01", 1, -1, true, 60},
+                 // the springs as compliant constraints in small steps (XPBD), one pass or a few
+                 {"stiff_xpbd_480", "xpbd", 1, -1, true, 480},
+                 {"stiff_xpbd_960", "xpbd", 1, -1, true, 960},
+                 {"stiff_xpbd_1920", "xpbd", 1, -1, true, 1920},
+                 {"stiff_xpbd_3840", "xpbd", 1, -1, true, 3840},
+                 {"stiff_xpbd_960_4", "xpbd:iterations=4", 1, -1, true, 960},
+                 {"stiff_xpbd_960_16", "xpbd:iterations=16", 1, -1, true, 960},
+                 {"stiff_xpbd_1920_4", "xpbd:iterations=4", 1, -1, true, 1920},
+                 // the same with each row and column of structural springs solved at once
+                 {"stiff_xpbd_chains_960", "xpbd:chains=on", 1, -1, true, 960},
+                 {"stiff_xpbd_chains_1920", "xpbd:chains=on", 1, -1, true, 1920},
+                 {"stiff_xpbd_chains_3840", "xpbd:chains=on", 1, -1, true, 3840}})
             variants.push_back(v);
     }
     for (const std::string& item : extraStiff) {  // NAME=SPEC@HZ

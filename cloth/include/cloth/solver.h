@@ -12,6 +12,7 @@
 //   desbrun    Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once
 //   explicit   symplectic Euler with substeps
 //   newton     the implicit step converged (backward Euler or BDF2), the air fully coupled
+//   xpbd       the springs as compliant constraints (XPBD, Macklin et al. 2016), projected
 // Every implicit kind takes compression= (eq. 17). The corrections after a step (tethers, the
 // stretch limit) are the cloth's constraints, not a solver's keys: Solver::setConstraints
 // (constraints.h).
@@ -109,11 +110,19 @@ struct NewtonSettings {
     int threads = 1;
 };
 
+// xpbd: each spring a compliant distance constraint (compliance 1/k: the same energy), projected
+// by Gauss-Seidel after an unconstrained prediction; run in small steps (the scene's substeps or
+// physics rate), one iteration per step (Macklin et al. 2019).
+struct XpbdSettings {
+    int iterations = 1;  // passes over the springs per step
+    bool chains = false;  // a grid's rows and columns of structural springs each solved at once
+};
+
 struct SolverConfig {
     std::string name = "kangcho";
     bool compressionRule = true;  // implicit kinds: eq. 17 in the Jacobian
     std::variant<KangChoSettings, ExactSettings, MultigridSettings, ChebyshevSettings, DesbrunSettings,
-                 ExplicitSettings, NewtonSettings>
+                 ExplicitSettings, NewtonSettings, XpbdSettings>
         settings;
     // The settings of this config's kind (std::bad_variant_access for another kind).
     template <class S>
