@@ -14,6 +14,7 @@
 #include "cloth/solver.h"
 #include "multigrid/multigrid.h"
 #include "solver_table.h"
+#include "solver_spec.h"
 
 using namespace cloth;
 
@@ -85,13 +86,6 @@ Eigen::MatrixXd referenceFreeMatrix(const Case& c, const LinearSystem& sys) {
     return W;
 }
 
-std::unique_ptr<Solver> solverFor(const std::string& spec) {
-    SolverConfig config;
-    std::string error;
-    EXPECT_TRUE(parseSolverConfig(spec, config, &error)) << error;
-    return makeSolver(config);
-}
-
 // A multigrid solver of `spec` with its settled tuning changed by `tune`.
 using Tune = std::function<void(MultigridTuning&)>;
 std::unique_ptr<Solver> solverFor(const std::string& spec, const Tune& tune) {
@@ -116,7 +110,7 @@ MultigridSettings tuned(MultigridSettings s, const Tune& tune) {
 }
 
 Points stepDv(const std::string& spec, const Case& c, const Environment& env = {}, const Tune& tune = nullptr) {
-    auto solver = tune ? solverFor(spec, tune) : solverFor(spec);
+    auto solver = tune ? solverFor(spec, tune) : solverOf(spec);
     State state = c.state;
     const StepResult r = solver->step(c.model, env, state, inputOf(c));
     EXPECT_EQ(r.status, StepStatus::Ok) << spec;
@@ -280,7 +274,7 @@ TEST(Multigrid, AdaptiveCyclesStopAtTheToleranceAndReportTheCount) {
     LinearSystem sys;
     buildSystem({c.model, {}, c.state, inputOf(c), true}, sys);
     for (const double tol : {1e-1, 1e-2, 1e-4}) {
-        auto solver = solverFor("multigrid:tolerance=" + std::to_string(tol) + ",max_cycles=50");
+        auto solver = solverOf("multigrid:tolerance=" + std::to_string(tol) + ",max_cycles=50");
         State state = c.state;
         const StepResult r = solver->step(c.model, {}, state, inputOf(c));
         ASSERT_EQ(r.status, StepStatus::Ok);
@@ -293,7 +287,7 @@ TEST(Multigrid, AdaptiveCyclesStopAtTheToleranceAndReportTheCount) {
         }
     }
     // A fixed count is a fixed count.
-    auto two = solverFor("multigrid:cycles=2");
+    auto two = solverOf("multigrid:cycles=2");
     State state = c.state;
     EXPECT_EQ(two->step(c.model, {}, state, inputOf(c)).iterations, 2);
 }
@@ -354,7 +348,7 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneA
     HangingFlag flag = makeHangingFlag(d);
     const double tol = 1e-4;
     const std::string spec = "multigrid:tolerance=1e-4,max_cycles=50";
-    auto warm = solverFor(spec);  // settled: the last solves when adaptive
+    auto warm = solverOf(spec);  // settled: the last solves when adaptive
     const Tune zero = [](MultigridTuning& t) { t.startHistory = 0; };
     StepInput in;
     in.h = 1.0 / 240;
@@ -399,12 +393,12 @@ TEST(Multigrid, AWarmStartMeetsTheToleranceInFewerCyclesAndInNoMoreThanAColdOneA
     }
     // A fixed count starts from zero unless asked: the same bits as a fresh solver's.
     const Case c = stiffCase(33, 33, false, 4);
-    auto fixed = solverFor("multigrid:cycles=1");
+    auto fixed = solverOf("multigrid:cycles=1");
     State a = c.state;
     fixed->step(c.model, {}, a, inputOf(c));
     State b = a;
     fixed->step(c.model, {}, a, inputOf(c));
-    auto fresh = solverFor("multigrid:cycles=1");
+    auto fresh = solverOf("multigrid:cycles=1");
     fresh->step(c.model, {}, b, inputOf(c));
     EXPECT_EQ(fixed->lastDv(), fresh->lastDv());
 }
@@ -414,7 +408,7 @@ TEST(Multigrid, OneFixedCycleRunsAloneUnlessCgIsAskedFor) {
     // one iteration, which scales it by a step length; two cycles run under CG.
     const Case c = stiffCase(33, 33, false, 3);
     auto dvOf = [&](const std::string& spec, int krylov = -1) {
-        auto solver = krylov < 0 ? solverFor(spec) : solverFor(spec, [&](MultigridTuning& t) { t.krylov = krylov == 1; });
+        auto solver = krylov < 0 ? solverOf(spec) : solverFor(spec, [&](MultigridTuning& t) { t.krylov = krylov == 1; });
         State s = c.state;
         EXPECT_EQ(solver->step(c.model, {}, s, inputOf(c)).status, StepStatus::Ok) << spec;
         return solver->lastDv();
@@ -488,7 +482,7 @@ TEST(Multigrid, ReusedCoarseOperatorsStillReachTheToleranceAndAreRebuiltWhenTheP
     }
     // The reuse is real: after 10 steps one cycle with the first step's coarse operators is not
     // one cycle with the current ones.
-    auto fresh = solverFor("multigrid:cycles=1");
+    auto fresh = solverOf("multigrid:cycles=1");
     State a = oneCycle, b = oneCycle;
     lagged1->step(flag.model, {}, a, in);
     fresh->step(flag.model, {}, b, in);
@@ -497,7 +491,7 @@ TEST(Multigrid, ReusedCoarseOperatorsStillReachTheToleranceAndAreRebuiltWhenTheP
     in.pins.pop_back();
     a = oneCycle, b = oneCycle;
     lagged1->step(flag.model, {}, a, in);
-    auto fresher = solverFor("multigrid:cycles=1");
+    auto fresher = solverOf("multigrid:cycles=1");
     fresher->step(flag.model, {}, b, in);
     EXPECT_EQ(lagged1->lastDv(), fresher->lastDv());
 }
@@ -641,7 +635,7 @@ TEST(ImplicitAir, EveryImplicitSolverReadsTheSameDampedSystem) {
     airDamping(jac, damping);
     c.external = f;
     auto dvWith = [&](const std::string& spec) {
-        auto solver = solverFor(spec);
+        auto solver = solverOf(spec);
         State state = c.state;
         StepInput in = inputOf(c);
         in.damping = &damping;
@@ -654,7 +648,7 @@ TEST(ImplicitAir, EveryImplicitSolverReadsTheSameDampedSystem) {
     const Points exact = dvWith("exact");
     EXPECT_LT((dvWith("exact:method=multigrid") - exact).norm() / exact.norm(), 1e-8);
     // And the damping changes the answer (the test would pass trivially if it were ignored).
-    auto plain = solverFor("exact");
+    auto plain = solverOf("exact");
     State state = c.state;
     plain->step(c.model, {}, state, inputOf(c));
     EXPECT_GT((plain->lastDv() - exact).norm() / exact.norm(), 1e-3);

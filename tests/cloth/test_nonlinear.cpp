@@ -15,6 +15,7 @@
 #include "cloth/presets.h"
 #include "cloth/solver.h"
 #include "multigrid/gmres.h"
+#include "solver_spec.h"
 
 using namespace cloth;
 
@@ -128,13 +129,6 @@ TEST(FlexibleGmres, SolvesANonSymmetricSystemAsADenseLUDoes) {
 }
 
 namespace {
-
-std::unique_ptr<Solver> solverOf(const std::string& spec) {
-    SolverConfig c;
-    std::string error;
-    EXPECT_TRUE(parseSolverConfig(spec, c, &error)) << spec << ": " << error;
-    return makeSolver(c);
-}
 
 // G(v) = M (v - v0) - h f(x(v), v) over the free particles' coordinates, x(v) = x0 + h v and the
 // pinned particles on their pins' targets with their velocities.

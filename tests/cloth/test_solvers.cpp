@@ -12,17 +12,11 @@
 #include "cloth/diagnostics.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
+#include "solver_spec.h"
 
 using namespace cloth;
 
 namespace {
-
-std::unique_ptr<Solver> solverFor(const std::string& spec) {
-    SolverConfig c;
-    std::string error;
-    EXPECT_TRUE(parseSolverConfig(spec, c, &error)) << error;
-    return makeSolver(c);
-}
 
 // A small grid with jittered positions and random velocities: some springs stretched, some
 // compressed.
@@ -103,7 +97,7 @@ TEST(KangCho, OneIterationEqualsHandEvaluationOfEq14) {
         dv1[i] = dv0[i] + h * h * W[i].inverse() * sum;  // eq. 14
     }
 
-    auto solver = solverFor("kangcho");
+    auto solver = solverOf("kangcho");
     StepInput input;
     input.h = h;
     const State before = state;
@@ -140,7 +134,7 @@ TEST(KangCho, JacobiApproachesExactSolveIterationByIteration) {
     }
     EXPECT_LT(previous, 1e-13);
     // The solver's own one-iteration dv has the same error as one sweep here.
-    auto solver = solverFor("kangcho:iterations=1");
+    auto solver = solverOf("kangcho:iterations=1");
     State state = s.state;
     ASSERT_EQ(solver->step(s.model, env, state, input).status, StepStatus::Ok);
     Points d0, d1;
@@ -181,7 +175,7 @@ TEST(Exact, ResidualBelow1e10AndMatrixSymmetricPositiveDefinite) {
     EXPECT_LE(relativeResidual(s.model, sys, dv), 1e-10);
 
     for (const char* spec : {"exact", "cg:tolerance=1e-10"}) {
-        auto solver = solverFor(spec);
+        auto solver = solverOf(spec);
         State state = s.state;
         const StepResult r = solver->step(s.model, env, state, input);
         ASSERT_EQ(r.status, StepStatus::Ok);
@@ -204,7 +198,7 @@ TEST(Pins, EnterTheirNeighboursEquations) {
         // In the cloth's plane: a flat cloth at rest has no stiffness across its plane.
         const Vec3 offset(0.02, 0.05, 0);
         const std::vector<Pin> pinsMoved = pinColumn(moved.model, offset);
-        auto a = solverFor(spec), b = solverFor(spec);
+        auto a = solverOf(spec), b = solverOf(spec);
         input.pins = pinsStill;
         a->step(still.model, env, still.state, input);
         input.pins = pinsMoved;
@@ -223,7 +217,7 @@ TEST(Stability, HangingFlagStableWithKangChoWhileExplicitBlowsUp) {
     auto run = [&](const char* spec, int steps) -> int {  // the step it failed at, or -1
         HangingFlag flag = makeHangingFlag(d);
         input.pins = flag.pins;
-        auto solver = solverFor(spec);
+        auto solver = solverOf(spec);
         for (int s = 0; s < steps; ++s) {
             if (solver->step(flag.model, env, flag.state, input).status != StepStatus::Ok) return s;
             if (s % 50 == 49 &&
@@ -247,7 +241,7 @@ TEST(Failure, NonFiniteInputIsReportedAndStateKept) {
     input.pins = flag.pins;
     input.externalForce = &external;
     for (const char* spec : {"kangcho", "explicit", "cg"}) {
-        auto solver = solverFor(spec);
+        auto solver = solverOf(spec);
         const StepResult r = solver->step(flag.model, Environment{}, flag.state, input);
         EXPECT_NE(r.status, StepStatus::Ok) << spec;
         EXPECT_TRUE(flag.state.x.allFinite() && flag.state.v.allFinite()) << spec;
@@ -304,7 +298,7 @@ TEST(Explicit, BlowsUpAboveItsStabilityLimitAndNotBelow) {
         HangingFlag f = makeHangingFlag(d);
         // A small, deterministic kick excites every mode.
         for (Index i = 0; i < n; ++i) f.state.v.col(i) = Vec3(0.01 * std::sin(i), 0.01 * std::cos(3 * i), 0.01 * std::sin(7 * i));
-        auto solver = solverFor("explicit:substeps=1");
+        auto solver = solverOf("explicit:substeps=1");
         StepInput in;
         in.h = h;
         in.pins = f.pins;
@@ -339,7 +333,7 @@ TEST(Desbrun, StepSolvesTheConstantLaplacianSystem) {
     computeForces(s.model, env, s.state, nullptr, f);
     const Eigen::MatrixXd b = h * f.transpose() - h * h * kL * s.state.v.transpose();
     const Eigen::MatrixXd expected = A.ldlt().solve(b).transpose();
-    auto solver = solverFor("desbrun");
+    auto solver = solverOf("desbrun");
     State state = s.state;
     ASSERT_EQ(solver->step(s.model, env, state, input).status, StepStatus::Ok);
     EXPECT_LT((solver->lastDv() - expected).norm(), 1e-10 * expected.norm());

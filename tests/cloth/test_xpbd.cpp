@@ -11,17 +11,11 @@
 
 #include "cloth/presets.h"
 #include "cloth/solver.h"
+#include "solver_spec.h"
 
 using namespace cloth;
 
 namespace {
-
-std::unique_ptr<Solver> solverOf(const std::string& spec) {
-    SolverConfig config;
-    std::string error;
-    EXPECT_TRUE(parseSolverConfig(spec, config, &error)) << error;
-    return makeSolver(config, &error);
-}
 
 // One free particle (1) between two pinned ones (0, 2) that both sit at the origin: two equal
 // springs of rest length l0 pull it radially, a linear oscillator of omega^2 = 2 k / m in r - l0.
