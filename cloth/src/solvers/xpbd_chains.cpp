@@ -59,7 +59,6 @@ void XpbdChains::projectChain(const Model& model, std::size_t chain, const std::
         dir_[k] = live ? Vec3(d / L) : Vec3::Zero();
         diag_[k] = live ? weight[a] + weight[b] + alpha : 1;
         rhs_[k] = live ? -(L - sp.rest + alpha * lambda[s]) : 0;
-        if (!(diag_[k] > 0)) diag_[k] = 1, rhs_[k] = 0;  // both ends pinned
     }
     for (std::size_t k = 0; k + 1 < m; ++k) off_[k] = -weight[next_[begin + k]] * dir_[k].dot(dir_[k + 1]);
     for (std::size_t k = 1; k < m; ++k) {  // Thomas: eliminate below the diagonal
