@@ -439,7 +439,8 @@ vehicle path, a scan over stiffness and time step, and the demo's flag in six ex
   --extremes-only      only the extreme cases
   --configs LIST       comma-separated subset of the extreme-case configurations (by name)
   --cases LIST         comma-separated subset of the extreme cases (by name, e.g. spin_5radps)
-  --stiff-configs L    more configurations of the stiff flag: NAME=SPEC@HZ, ';'-separated
+  --stiff-configs L    more configurations of the stiff flag: NAME=SPEC@HZ or NAME=SPEC@HZxSUBSTEPS,
+                       ';'-separated
                        (e.g. "bdf2_90=newton:integrator=bdf2@90"); pick them with --configs
   --extreme-sizes LIST flag sides for the extreme cases (default 33,65, --quick 33; the flag keeps
                        its aspect)
@@ -506,6 +507,15 @@ bool extremeCasesDriveTheFlag(const engine::SceneConfig& demo, const std::string
     const std::string idle = study::idleCases(motions);
     if (!idle.empty()) std::fprintf(stderr, "cloth_study: %s", idle.c_str());
     return idle.empty();
+}
+
+// "HZ" or "HZxSUBSTEPS" (--stiff-configs): a physics rate, and the substeps of each of its ticks.
+bool parseRate(const char* text, int& hz, int& substeps) {
+    char rest = 0;
+    substeps = 1;
+    const int read = std::sscanf(text, "%dx%d%c", &hz, &substeps, &rest);
+    if (read == 1 && std::sscanf(text, "%d%c", &hz, &rest) != 1) return false;  // "240x" or "240abc"
+    return (read == 1 || read == 2) && hz > 0 && substeps > 0;
 }
 
 // An extreme-case configuration: a solver on one of the two flags, at a physics rate; or the
@@ -702,6 +712,12 @@ int main(int argc, char** argv) {
                  {"stiff_newton_bdf2_60_cap_5", "newton:integrator=bdf2,max_iterations=5", 1, -1, true, 60},
                  {"stiff_newton_bdf2_60_cap_6", "newton:integrator=bdf2,max_iterations=6", 1, -1, true, 60},
                  {"stiff_newton_bdf2_60_loose", "newton:integrator=bdf2,tolerance=0.01", 1, -1, true, 60},
+                 // the converged BDF2 step in small steps: one per 960 Hz tick, or 240 Hz ticks of 2 or 4
+                 // substeps, whose pins move along the carrier's path as the reference's do
+                 {"stiff_newton_bdf2_960", "newton:integrator=bdf2", 1, -1, true, 960},
+                 {"stiff_newton_bdf2_240x2", "newton:integrator=bdf2", 2, -1, true, 240},
+                 {"stiff_newton_bdf2_240x4", "newton:integrator=bdf2", 4, -1, true, 240},
+                 {"stiff_newton_bdf2_240x4_loose", "newton:integrator=bdf2,tolerance=0.01", 4, -1, true, 240},
                  // the springs as compliant constraints in small steps (XPBD), one pass or a few
                  {"stiff_xpbd_480", "xpbd", 1, -1, true, 480},
                  {"stiff_xpbd_960", "xpbd", 1, -1, true, 960},
@@ -716,14 +732,15 @@ int main(int argc, char** argv) {
                  {"stiff_xpbd_chains_3840", "xpbd:chains=on", 1, -1, true, 3840}})
             variants.push_back(v);
     }
-    for (const std::string& item : extraStiff) {  // NAME=SPEC@HZ
+    for (const std::string& item : extraStiff) {  // NAME=SPEC@HZ or NAME=SPEC@HZxSUBSTEPS
         const std::size_t eq = item.find('='), at = item.rfind('@');
         cloth::SolverConfig c;
         std::string error;
-        if (eq == std::string::npos || at == std::string::npos || at < eq ||
-            !cloth::parseSolverConfig(item.substr(eq + 1, at - eq - 1), c, &error) || std::atoi(item.c_str() + at + 1) <= 0)
-            return usageError("--stiff-configs: '" + item + "' is not NAME=SPEC@HZ with a valid solver spec " + error);
-        variants.push_back({item.substr(0, eq), item.substr(eq + 1, at - eq - 1), 1, -1, true, std::atoi(item.c_str() + at + 1)});
+        int hz = 0, substeps = 1;
+        if (eq == std::string::npos || at == std::string::npos || at < eq || !parseRate(item.c_str() + at + 1, hz, substeps) ||
+            !cloth::parseSolverConfig(item.substr(eq + 1, at - eq - 1), c, &error))
+            return usageError("--stiff-configs: '" + item + "' is not NAME=SPEC@HZ or NAME=SPEC@HZxSUBSTEPS with a valid solver spec " + error);
+        variants.push_back({item.substr(0, eq), item.substr(eq + 1, at - eq - 1), substeps, -1, true, hz});
     }
     std::vector<Extreme> cases = extremes();
     std::string unknown;
