@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The cloth's share of a demo frame: per frame, air + cloth_forces + cloth_solve + collision
 (profile.csv of a flagsim run), mean and 99th percentile, against a real-time budget, and the
-mean's ratio to the demo's run at the same size in the same call (LABEL without "_stiff").
+mean's ratio to the demo's run at the same size in the same call (LABEL up to "_stiff").
 
     tools/bench_cloth_budget.py LABEL:BUDGET_MS:PROFILE_CSV ...
 """
@@ -25,7 +25,7 @@ def main():
         mean = sum(sums) / len(sums)
         p99 = sums[min(len(sums) - 1, int(0.99 * len(sums)))]
         means[label] = mean
-        demo = means.get(label.replace("_stiff", ""))
+        demo = means.get(label.split("_stiff")[0])
         ratio = f"{mean / demo:.1f}" if demo else ""
         print(f"| {label} | {len(sums)} | {mean:.2f} | {p99:.2f} | {float(budget):g} | "
               f"{'yes' if mean <= float(budget) else 'no'} | {ratio} |")

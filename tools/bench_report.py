@@ -63,8 +63,8 @@ def main():
                      "run's own medians.")
     lines += section(os.path.join(out, "cloth_budget.md"), "The cloth's real-time budget per 60 Hz frame",
                      "`flagsim --no-frames` on the demo's scenes (the 129x129 flag on two threads) and on the "
-                     "stiff scene (`flag_vehicle_stiff`: newton, BDF2, 60 Hz; copies at 65x65, and at 129x129 on "
-                     "two threads, in the full run): air, cloth forces, solve and collision per frame from "
+                     "stiff scene (`flag_vehicle_stiff`: newton, BDF2, 60 Hz; in the full run copies at 65x65, and at "
+                     "129x129 on two threads, and `flag_vehicle_stiff_fine`, the same in steps of 1/960 s): air, cloth forces, solve and collision per frame from "
                      "`profile.csv`, against 1 ms (33x33), 4 ms (65x65) and 16 ms (129x129). `x demo`: the "
                      "row's mean over the demo's at its size, in this run.")
     lines += section(os.path.join(out, "demo_frame.txt"), "The demo frame without disk writes",

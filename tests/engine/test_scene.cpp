@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
 
 #include "engine/config_error.h"
 #include "engine/scene.h"
@@ -54,6 +57,19 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     EXPECT_EQ(stiff.flag.solver.describe(), "newton:integrator=bdf2,compression=on");
     EXPECT_EQ(stiff.flag.mass, demo.flag.mass);
     EXPECT_EQ(stiff.physicsHz, 60);
+    // Its fine-step sibling differs in the step alone: 240 Hz ticks of 4 substeps (1/960 s).
+    const SceneConfig fine = loadScene(kScenes + "flag_vehicle_stiff_fine.json");
+    EXPECT_EQ(fine.physicsHz, 240);
+    EXPECT_EQ(fine.flag.substeps, 4);
+    auto file = [&](const char* name) {
+        std::ifstream in(kScenes + name);
+        nlohmann::json j = nlohmann::json::parse(in);
+        for (const char* key : {"name", "description"}) j.erase(key);
+        j["timing"].erase("physics_hz");
+        j["flag"].erase("substeps");
+        return j;
+    };
+    EXPECT_EQ(file("flag_vehicle_stiff_fine.json"), file("flag_vehicle_stiff.json"));
 }
 
 TEST(Scene, SolverKeysFollowTheSolverTable) {
