@@ -874,6 +874,32 @@ def c_xpbd_keeps_flutter_not_stretch(docs):
             "light particles unstable below 1920 Hz")
 
 
+def c_fine_bdf2_steps_within_every_bound(docs):
+    rows = docs.rows("stiff_fine_steps.csv")
+    at = lambda c, x: one(rows, "stiff_fine_steps.csv", config=c, case=x, size="33")
+    for x in reference_table.CASES:  # the reference is deterministic: its rows repeat stiff_extreme.csv's
+        a, b = at("stiff_reference", x), stiff(docs, "stiff_reference", x)
+        need(all(a[k] == b[k] for k in ("stable", "p99_stretch", "peak_stretch", "ke_late", "ke_windows")),
+             f"stiff_fine_steps.csv: the reference's {x} row differs from stiff_extreme.csv's")
+    ranked = {e["config"]: e for e in reference_table.ranking(rows, 33)}
+    need(all(len(e["judged"]) == 6 for e in ranked.values()), "stiff_fine_steps.csv: a configuration not judged in all six cases")
+    within = sorted(c for c, e in ranked.items() if not any(e["judged"].values()))
+    want = ["stiff_newton_bdf2_240x4", "stiff_newton_bdf2_240x4_loose"]
+    need(within == want, f"stiff_fine_steps.csv: within every bound in all six cases: {within} (docs: {want})")
+    half = ranked["stiff_newton_bdf2_240x2"]
+    need(stretch_misses(half) == [] and half["energy"][0] < 0.5 <= half["energy"][1],
+         f"240 Hz x 2: stretch misses {stretch_misses(half)}, energy {half['energy']} (docs: none; under 0.5x at 50 m/s only)")
+    single = ranked["stiff_newton_bdf2_960"]
+    need(stretch_misses(single) == ["teleport_1m"] and not stable(at("stiff_newton_bdf2_960", "teleport_1m")),
+         f"960 Hz ticks miss {stretch_misses(single)} (docs: the teleport, unstable)")
+    scene = json.load(open(os.path.join(docs.d, "..", "..", "assets", "scenes", "flag_vehicle_stiff_fine.json")))
+    need(scene["flag"]["solver"] == {"name": "newton", "integrator": "bdf2"} and scene["timing"]["physics_hz"] == 240
+         and scene["flag"]["substeps"] == 4, "flag_vehicle_stiff_fine.json is not newton bdf2 in 240 Hz ticks of 4 substeps")
+    energy = ", ".join(f"{r:.2f}" for r in ranked["stiff_newton_bdf2_240x4"]["energy"])
+    return (f"converged BDF2 in steps of 1/960 s within every bound in all six cases (energy {energy}x), what "
+            "flag_vehicle_stiff_fine ships; 1/480 s loses the 50 m/s flutter, 960 Hz ticks the teleport")
+
+
 DOC_CHECKS = [
     # docs/study.md, part 1
     ("paper_step_leaves_solve_error", c_paper_step_leaves_solve_error),
@@ -925,6 +951,7 @@ DOC_CHECKS = [
     ("shipped_step_rests_on_its_cap", c_shipped_step_rests_on_its_cap),
     ("stiff_flag_at_65", c_stiff_flag_at_65),
     ("xpbd_keeps_flutter_not_stretch", c_xpbd_keeps_flutter_not_stretch),
+    ("fine_bdf2_steps_within_every_bound", c_fine_bdf2_steps_within_every_bound),
 ]
 
 
