@@ -900,6 +900,21 @@ def c_fine_bdf2_steps_within_every_bound(docs):
             "flag_vehicle_stiff_fine ships; 1/480 s loses the 50 m/s flutter, 960 Hz ticks the teleport")
 
 
+def c_fine_steps_short_of_65(docs):
+    rows = docs.rows("stiff_fine_steps_65.csv")
+    at = lambda c, x: one(rows, "stiff_fine_steps_65.csv", config=c, case=x, size="65")
+    for x in reference_table.CASES:  # the reference rows are stiff_extreme_65.csv's
+        a, b = at("stiff_reference", x), one(docs.rows("stiff_extreme_65.csv"), "stiff_extreme_65.csv",
+                                             config="stiff_reference", case=x, size="65")
+        need(all(a[k] == b[k] for k in ("stable", "p99_stretch", "peak_stretch", "ke_late")), f"{x}: the 65x65 reference rows differ")
+    fine = {e["config"]: e for e in reference_table.ranking(rows, 65)}["stiff_newton_bdf2_240x4"]
+    need(all(stable(at("stiff_newton_bdf2_240x4", x)) for x in reference_table.CASES), "240 Hz x 4 at 65x65: unstable somewhere (docs: stable)")
+    need(stretch_misses(fine) == ["teleport_1m"] and fine["judged"]["teleport_1m"] == ["peak"],
+         f"240 Hz x 4 at 65x65 misses {fine['judged']} (docs: the teleport's peak)")
+    need(max(fine["energy"]) < 0.4, f"240 Hz x 4 at 65x65 keeps {fine['energy']} of the flutter (docs: under 0.4x)")
+    return "at 65x65 steps of 1/960 s keep under 0.4x of the flutter and miss the teleport's peak"
+
+
 DOC_CHECKS = [
     # docs/study.md, part 1
     ("paper_step_leaves_solve_error", c_paper_step_leaves_solve_error),
@@ -952,6 +967,7 @@ DOC_CHECKS = [
     ("stiff_flag_at_65", c_stiff_flag_at_65),
     ("xpbd_keeps_flutter_not_stretch", c_xpbd_keeps_flutter_not_stretch),
     ("fine_bdf2_steps_within_every_bound", c_fine_bdf2_steps_within_every_bound),
+    ("fine_steps_short_of_65", c_fine_steps_short_of_65),
 ]
 
 
