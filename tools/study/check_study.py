@@ -874,13 +874,18 @@ def c_xpbd_keeps_flutter_not_stretch(docs):
             "light particles unstable below 1920 Hz")
 
 
+def reference_repeats(docs, name, source, size):
+    """The stiff reference is deterministic: its rows in `name` repeat those in `source`."""
+    for x in reference_table.CASES:
+        a, b = (one(docs.rows(f), f, config="stiff_reference", case=x, size=size) for f in (name, source))
+        need(all(a[k] == b[k] for k in ("stable", "p99_stretch", "peak_stretch", "ke_late", "ke_windows")),
+             f"{name}: the reference's {x} row differs from {source}'s")
+
+
 def c_fine_bdf2_steps_within_every_bound(docs):
     rows = docs.rows("stiff_fine_steps.csv")
     at = lambda c, x: one(rows, "stiff_fine_steps.csv", config=c, case=x, size="33")
-    for x in reference_table.CASES:  # the reference is deterministic: its rows repeat stiff_extreme.csv's
-        a, b = at("stiff_reference", x), stiff(docs, "stiff_reference", x)
-        need(all(a[k] == b[k] for k in ("stable", "p99_stretch", "peak_stretch", "ke_late", "ke_windows")),
-             f"stiff_fine_steps.csv: the reference's {x} row differs from stiff_extreme.csv's")
+    reference_repeats(docs, "stiff_fine_steps.csv", "stiff_extreme.csv", "33")
     ranked = {e["config"]: e for e in reference_table.ranking(rows, 33)}
     need(all(len(e["judged"]) == 6 for e in ranked.values()), "stiff_fine_steps.csv: a configuration not judged in all six cases")
     within = sorted(c for c, e in ranked.items() if not any(e["judged"].values()))
@@ -903,10 +908,7 @@ def c_fine_bdf2_steps_within_every_bound(docs):
 def c_fine_steps_short_of_65(docs):
     rows = docs.rows("stiff_fine_steps_65.csv")
     at = lambda c, x: one(rows, "stiff_fine_steps_65.csv", config=c, case=x, size="65")
-    for x in reference_table.CASES:  # the reference rows are stiff_extreme_65.csv's
-        a, b = at("stiff_reference", x), one(docs.rows("stiff_extreme_65.csv"), "stiff_extreme_65.csv",
-                                             config="stiff_reference", case=x, size="65")
-        need(all(a[k] == b[k] for k in ("stable", "p99_stretch", "peak_stretch", "ke_late")), f"{x}: the 65x65 reference rows differ")
+    reference_repeats(docs, "stiff_fine_steps_65.csv", "stiff_extreme_65.csv", "65")
     fine = {e["config"]: e for e in reference_table.ranking(rows, 65)}["stiff_newton_bdf2_240x4"]
     need(all(stable(at("stiff_newton_bdf2_240x4", x)) for x in reference_table.CASES), "240 Hz x 4 at 65x65: unstable somewhere (docs: stable)")
     need(stretch_misses(fine) == ["teleport_1m"] and fine["judged"]["teleport_1m"] == ["peak"],
