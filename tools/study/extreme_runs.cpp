@@ -12,16 +12,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double carrierEnergy(const engine::Flag& flag, const engine::RigidFrame& c) {
-    const cloth::Model& m = flag.model();
-    double e = 0;
-    for (cloth::Index i = 0; i < m.particleCount(); ++i) {
-        const Eigen::Vector3d x = flag.state().x.col(i);
-        e += 0.5 * m.masses()[i] * (flag.state().v.col(i) - c.velocityAt(x)).squaredNorm();
-    }
-    return e;
-}
-
 double mean(const std::vector<double>& v, std::size_t begin, std::size_t end) {
     double s = 0;
     for (std::size_t k = begin; k < end; ++k) s += v[k];
@@ -41,11 +31,35 @@ void record(ExtremeRun& r, const cloth::Diagnostics& d, const engine::Flag& flag
 
 }  // namespace
 
+double carrierEnergy(const cloth::Model& m, const cloth::State& s, const engine::RigidFrame& c) {
+    double e = 0;
+    for (cloth::Index i = 0; i < m.particleCount(); ++i)
+        e += 0.5 * m.masses()[i] * (s.v.col(i) - c.velocityAt(s.x.col(i))).squaredNorm();
+    return e;
+}
+
+double patchEnergy(const cloth::Model& m, const cloth::State& s, const engine::RigidFrame& c) {
+    const int nx = m.gridNx(), ny = m.gridNy();
+    if (nx < kPatches || ny < kPatches) return NAN;
+    std::vector<double> mass(kPatches * kPatches, 0.0);
+    std::vector<Eigen::Vector3d> momentum(kPatches * kPatches, Eigen::Vector3d::Zero());
+    for (int r = 0; r < ny; ++r)
+        for (int col = 0; col < nx; ++col) {
+            const cloth::Index i = cloth::Index(r) * nx + col;
+            const int patch = (r * kPatches / ny) * kPatches + col * kPatches / nx;
+            mass[patch] += m.masses()[i];
+            momentum[patch] += m.masses()[i] * (s.v.col(i) - c.velocityAt(s.x.col(i)));
+        }
+    double e = 0;
+    for (int p = 0; p < kPatches * kPatches; ++p) e += 0.5 * momentum[p].squaredNorm() / mass[p];
+    return e;
+}
+
 ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mount, const Extreme& x, bool keepStates) {
     engine::Flag flag(s, mount, x.carrier(0));
     const double h = 1.0 / s.physicsHz;
     ExtremeRun r;
-    std::vector<double> tickMs, energy;
+    std::vector<double> tickMs, energy, patch;
     if (keepStates) r.states.push_back(flag.state());
     const int ticks = int(std::floor(x.duration / h + 1e-9));
     for (int k = 1; k <= ticks; ++k) {
@@ -55,7 +69,8 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
         tickMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
         const cloth::Diagnostics d = cloth::measure(flag.model(), {}, flag.state(), true);
         record(r, d, flag, c, x, k * h);
-        energy.push_back(carrierEnergy(flag, c));
+        energy.push_back(carrierEnergy(flag.model(), flag.state(), c));
+        patch.push_back(patchEnergy(flag.model(), flag.state(), c));
         if (keepStates) r.states.push_back(flag.state());
         // Stable: finite and bounded throughout (positions within 100 m of the pole, speeds under
         // 1000 m/s), no failed cloth step, and strain back under 50% over the last second: a
@@ -72,6 +87,7 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
     const std::size_t perWindow = std::size_t(std::lround(kEnergyWindow / h)), perSecond = std::size_t(std::lround(1 / h));
     r.energyMean = mean(energy, 0, energy.size());
     r.energyLate = mean(energy, energy.size() - std::min(energy.size(), perSecond), energy.size());
+    r.patchEnergyLate = mean(patch, patch.size() - std::min(patch.size(), perSecond), patch.size());
     for (std::size_t w = 0; w < energy.size(); w += perWindow)
         r.energyWindows.push_back(mean(energy, w, std::min(energy.size(), w + perWindow)));
     const long long steps = std::max(1LL, flag.steps());

@@ -7,6 +7,9 @@ median cost. The bounds (the stiff flag's goal):
     peak stretch <= 1.5 x the reference's + 2 points;
     kinetic energy in the carrier's frame over the last second (ke_late) between 0.5 and 2 times
     the reference's, in the cases where the flag flutters (50 m/s, gale).
+Beside them, when the CSV has it, the same ratio of the energy at the scale of 8 x 8 patches of
+the flag (ke_patch_late, tools/study/extreme_runs.h): the flutter without its grid-scale motion.
+It is shown, not judged.
 A configuration is judged against its own flag's reference: `reference` for the demo's flag,
 `stiff_reference` for the stiff flag (configurations named stiff_*).
 
@@ -61,9 +64,11 @@ def ranking(rows, size):
         stretch = sum(1 for m in judged.values() if not ({"unstable", "p99", "peak"} & set(m)))
         energy = [num(by_case[x]["ke_late"]) / num(refs[(reference_of(c), x)]["ke_late"]) for x in FLUTTER
                   if x in by_case and (reference_of(c), x) in refs]
+        patch = [num(by_case[x].get("ke_patch_late")) / num(refs[(reference_of(c), x)].get("ke_patch_late"))
+                 for x in FLUTTER if x in by_case and (reference_of(c), x) in refs]
         ms = statistics.median(num(r["ms_per_tick"]) for r in by_case.values())
         traj = [num(r["traj_error"]) for r in by_case.values()]
-        out.append({"config": c, "judged": judged, "stretch": stretch, "energy": energy, "ms": ms,
+        out.append({"config": c, "judged": judged, "stretch": stretch, "energy": energy, "patch": patch, "ms": ms,
                     "hz": by_case[CASES[0]]["physics_hz"] if CASES[0] in by_case else "",
                     "traj": statistics.median(traj) if all(math.isfinite(t) for t in traj) else math.nan,
                     "all": sum(1 for m in judged.values() if not m)})
@@ -74,17 +79,21 @@ def main():
     path = sys.argv[1] if len(sys.argv) > 1 else "out/study/extreme.csv"
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
+    patches = bool(rows) and "ke_patch_late" in rows[0]
     for size in sorted({int(r["size"]) for r in rows}):
         print(f"**{size}x{size}**: per case, the bounds a configuration misses (blank: none); cases within "
-              "the stretch bounds; ke_late / the reference's at 50 m/s and in the gale; median traj_error "
-              "(NaN when a run failed); median ms per tick at its physics rate\n")
-        print("| configuration | Hz | " + " | ".join(CASES) + " | stretch ok | energy 50 m/s, gale | traj | ms/tick |")
-        print("|---" * (len(CASES) + 6) + "|")
+              "the stretch bounds; ke_late / the reference's at 50 m/s and in the gale"
+              + ("; the same of ke_patch_late" if patches else "") +
+              "; median traj_error (NaN when a run failed); median ms per tick at its physics rate\n")
+        print("| configuration | Hz | " + " | ".join(CASES) + " | stretch ok | energy 50 m/s, gale | "
+              + ("patch energy | " if patches else "") + "traj | ms/tick |")
+        print("|---" * (len(CASES) + 6 + patches) + "|")
         for e in ranking(rows, size):
             cells = [", ".join(e["judged"].get(x, ["-"])) for x in CASES]
             energy = ", ".join(f"{v:.2g}" for v in e["energy"])
+            patch = (", ".join(f"{v:.2g}" for v in e["patch"]) + " | ") if patches else ""
             print(f"| {e['config']} | {e['hz']} | " + " | ".join(cells) +
-                  f" | {e['stretch']}/6 | {energy} | {e['traj']:.3g} | {e['ms']:.3g} |")
+                  f" | {e['stretch']}/6 | {energy} | {patch}{e['traj']:.3g} | {e['ms']:.3g} |")
         print()
 
 
