@@ -874,9 +874,9 @@ def c_xpbd_keeps_flutter_not_stretch(docs):
             "light particles unstable below 1920 Hz")
 
 
-def reference_repeats(docs, name, source, size):
+def reference_repeats(docs, name, source, size, cases=reference_table.CASES):
     """The stiff reference is deterministic: its rows in `name` repeat those in `source`."""
-    for x in reference_table.CASES:
+    for x in cases:
         a, b = (one(docs.rows(f), f, config="stiff_reference", case=x, size=size) for f in (name, source))
         need(all(a[k] == b[k] for k in ("stable", "p99_stretch", "peak_stretch", "ke_late", "ke_windows")),
              f"{name}: the reference's {x} row differs from {source}'s")
@@ -915,6 +915,35 @@ def c_fine_steps_short_of_65(docs):
          f"240 Hz x 4 at 65x65 misses {fine['judged']} (docs: the teleport's peak)")
     need(max(fine["energy"]) < 0.4, f"240 Hz x 4 at 65x65 keeps {fine['energy']} of the flutter (docs: under 0.4x)")
     return "at 65x65 steps of 1/960 s keep under 0.4x of the flutter and miss the teleport's peak"
+
+
+def c_flutter_mostly_finer_than_patches(docs):
+    name = "stiff_patch_energy.csv"
+    rows = docs.rows(name)
+    at = lambda c, x, n: one(rows, name, config=c, case=x, size=n)
+    flutter = reference_table.FLUTTER
+    reference_repeats(docs, name, "stiff_extreme.csv", "33", flutter)
+    reference_repeats(docs, name, "stiff_extreme_65.csv", "65", flutter)
+    for x in flutter:  # the 240x4 rows at 65x65 repeat the fine-step CSV's
+        a, b = at("stiff_newton_bdf2_240x4", x, "65"), one(docs.rows("stiff_fine_steps_65.csv"), "stiff_fine_steps_65.csv",
+                                                            config="stiff_newton_bdf2_240x4", case=x, size="65")
+        need(all(a[k] == b[k] for k in ("p99_stretch", "ke_late", "ke_windows")), f"{name}: 240x4 at 65x65 in {x} differs")
+    ratio = lambda c, x, n, k: num(at(c, x, n)[k]) / num(at("stiff_reference", x, n)[k])
+    for n, most in (("33", 0.25), ("65", 0.1)):
+        for x in flutter:
+            share = num(at("stiff_reference", x, n)["ke_patch_late"]) / num(at("stiff_reference", x, n)["ke_late"])
+            need(share < most, f"{name}: the reference's patch energy is {share:.0%} of its whole at {n}, {x} (docs: under {most:.0%})")
+            half = ratio("stiff_reference_half_step", x, n, "ke_patch_late")
+            need(abs(half - 1) < 0.15, f"{name}: halving the reference's step changes its patch energy by {half - 1:+.0%} at {n}, {x}")
+            fine = ratio("stiff_newton_bdf2_240x4", x, n, "ke_patch_late")
+            need(0.5 <= fine <= 2 and fine > ratio("stiff_newton_bdf2_240x4", x, n, "ke_late"),
+                 f"{name}: 240x4 keeps {fine:.2f}x of the patch energy at {n}, {x} (docs: inside 0.5-2x, above the whole's ratio)")
+            need(ratio("stiff_newton_bdf2_60", x, n, "ke_patch_late") < 1e-10, f"{name}: BDF2 at 60 Hz keeps patch energy at {n}, {x}")
+        need(num(at("stiff_reference", "speed_50mps", "65")["ke_late"]) > num(at("stiff_reference", "speed_50mps", "33")["ke_late"])
+             and num(at("stiff_reference", "speed_50mps", "65")["ke_patch_late"]) < num(at("stiff_reference", "speed_50mps", "33")["ke_patch_late"]),
+             f"{name}: from 33 to 65 per side the reference's whole energy does not grow while its patch energy falls")
+    return ("the reference's flutter energy is mostly motion inside 1/8-of-the-flag patches (under 25% / 10% at the patches' "
+            "scale at 33 / 65); at that scale 1/960 s steps keep 0.5-2x of it at both sizes, 60 Hz none")
 
 
 DOC_CHECKS = [
@@ -970,6 +999,7 @@ DOC_CHECKS = [
     ("xpbd_keeps_flutter_not_stretch", c_xpbd_keeps_flutter_not_stretch),
     ("fine_bdf2_steps_within_every_bound", c_fine_bdf2_steps_within_every_bound),
     ("fine_steps_short_of_65", c_fine_steps_short_of_65),
+    ("flutter_mostly_finer_than_patches", c_flutter_mostly_finer_than_patches),
 ]
 
 

@@ -14,7 +14,13 @@ A configuration is judged against its own flag's reference: `reference` for the 
 `stiff_reference` for the stiff flag (configurations named stiff_*).
 
     tools/study/reference_table.py docs/study/stiff_extreme.csv
+    tools/study/reference_table.py A.csv B.csv --configs stiff_newton_bdf2_240x8
+
+Several CSVs are read as one: a row of a later file replaces one of an earlier file with the same
+case, size and configuration (the reference's rows from a run that has a column the other lacks).
+--configs ranks only the named configurations (comma-separated).
 """
+import argparse
 import csv
 import math
 import statistics
@@ -75,11 +81,27 @@ def ranking(rows, size):
     return sorted(out, key=lambda e: (-e["all"], -e["stretch"], e["ms"]))
 
 
+def read(paths):
+    """The rows of every CSV in paths, a later file's row replacing an earlier one's with the same
+    case, size and configuration."""
+    merged = {}
+    for path in paths:
+        with open(path, newline="") as f:
+            for r in csv.DictReader(f):
+                merged[(r["case"], r["size"], r["config"])] = r
+    return list(merged.values())
+
+
 def main():
-    path = sys.argv[1] if len(sys.argv) > 1 else "out/study/extreme.csv"
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    patches = bool(rows) and "ke_patch_late" in rows[0]
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("csv", nargs="*", default=["out/study/extreme.csv"])
+    p.add_argument("--configs", default="", help="comma-separated configurations to rank (default: all)")
+    a = p.parse_args()
+    rows = read(a.csv)
+    if a.configs:
+        keep = set(a.configs.split(",")) | {"reference", "stiff_reference"}
+        rows = [r for r in rows if r["config"] in keep]
+    patches = any("ke_patch_late" in r for r in rows)
     for size in sorted({int(r["size"]) for r in rows}):
         print(f"**{size}x{size}**: per case, the bounds a configuration misses (blank: none); cases within "
               "the stretch bounds; ke_late / the reference's at 50 m/s and in the gale"
