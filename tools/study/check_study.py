@@ -946,6 +946,39 @@ def c_flutter_mostly_finer_than_patches(docs):
             "scale at 33 / 65); at that scale 1/960 s steps keep 0.5-2x of it at both sizes, 60 Hz none")
 
 
+def c_patch_band_tells_steps_apart(docs):
+    name = "stiff_patch_energy_33.csv"
+    rows = docs.rows(name)
+    reference_repeats(docs, name, "stiff_patch_energy.csv", "33", reference_table.FLUTTER)
+    ratios = {e["config"]: e["patch"] for e in reference_table.ranking(rows, 33)}
+    inside = lambda c: all(0.5 <= r <= 2 for r in ratios[c])
+    need(all(r < 0.25 for c in ("stiff_newton_be_240", "stiff_newton_bdf2_240") for r in ratios[c]),
+         f"{name}: converged steps of 1/240 s keep {ratios['stiff_newton_be_240']}, {ratios['stiff_newton_bdf2_240']} (docs: under 0.25x)")
+    need(inside("stiff_newton_bdf2_240x4_loose") and not inside("stiff_newton_bdf2_240x2") and ratios["stiff_newton_bdf2_240x2"][1] > 2,
+         f"{name}: 240x4 loose keeps {ratios['stiff_newton_bdf2_240x4_loose']}, 240x2 {ratios['stiff_newton_bdf2_240x2']} (docs: in; over 2x in the gale)")
+    need(inside("stiff_multigrid") and inside("stiff_exact"), f"{name}: the linearized step keeps {ratios['stiff_multigrid']} (docs: inside)")
+    need(not inside("stiff_xpbd_960_4") and inside("stiff_xpbd_960_16"), f"{name}: xpbd 4 / 16 passes keep {ratios['stiff_xpbd_960_4']}, {ratios['stiff_xpbd_960_16']}")
+    return ("on the patch energy, converged 1/240 s steps keep under 0.25x, 1/480 s over 2x in the gale, 1/960 s and the "
+            "linearized step 0.5-2x")
+
+
+def c_steps_of_1920_at_65(docs):
+    name = "stiff_fine_steps_65_x8.csv"
+    files = ["stiff_extreme_65.csv", "stiff_fine_steps_65.csv", "stiff_patch_energy.csv", name]
+    rows = reference_table.read([os.path.join(docs.d, f) for f in files])
+    rank = lambda band: {e["config"]: e for e in reference_table.ranking(rows, 65, band)}
+    x8, x4 = rank("ke_patch_late")["stiff_newton_bdf2_240x8"], rank("ke_patch_late")["stiff_newton_bdf2_240x4"]
+    need(len(x8["judged"]) == 6 and not any(x8["judged"].values()),
+         f"{name}: 240x8 at 65x65 misses {x8['judged']} with the band on the patch energy (docs: nothing)")
+    need(x4["judged"]["teleport_1m"] == ["peak"] and sum(1 for m in x4["judged"].values() if m) == 1,
+         f"240x4 at 65x65 misses {x4['judged']} with the band on the patch energy (docs: the teleport's peak only)")
+    whole = rank("ke_late")["stiff_newton_bdf2_240x8"]
+    need(stretch_misses(whole) == [] and max(whole["energy"]) < 0.5,
+         f"{name}: 240x8 at 65x65 keeps {whole['energy']} of the whole energy, misses {stretch_misses(whole)} (docs: under 0.5x, no stretch bound)")
+    return (f"at 65x65 steps of 1/1920 s are within every stretch bound and keep {', '.join(f'{r:.2f}' for r in x8['patch'])}x "
+            f"of the patch energy, {', '.join(f'{r:.2f}' for r in whole['energy'])}x of the whole")
+
+
 DOC_CHECKS = [
     # docs/study.md, part 1
     ("paper_step_leaves_solve_error", c_paper_step_leaves_solve_error),
@@ -1000,6 +1033,8 @@ DOC_CHECKS = [
     ("fine_bdf2_steps_within_every_bound", c_fine_bdf2_steps_within_every_bound),
     ("fine_steps_short_of_65", c_fine_steps_short_of_65),
     ("flutter_mostly_finer_than_patches", c_flutter_mostly_finer_than_patches),
+    ("patch_band_tells_steps_apart", c_patch_band_tells_steps_apart),
+    ("steps_of_1920_at_65", c_steps_of_1920_at_65),
 ]
 
 

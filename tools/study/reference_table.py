@@ -9,7 +9,7 @@ median cost. The bounds (the stiff flag's goal):
     the reference's, in the cases where the flag flutters (50 m/s, gale).
 Beside them, when the CSV has it, the same ratio of the energy at the scale of 8 x 8 patches of
 the flag (ke_patch_late, tools/study/extreme_runs.h): the flutter without its grid-scale motion.
-It is shown, not judged.
+It is shown, and judged with --patch-energy.
 A configuration is judged against its own flag's reference: `reference` for the demo's flag,
 `stiff_reference` for the stiff flag (configurations named stiff_*).
 
@@ -18,7 +18,8 @@ A configuration is judged against its own flag's reference: `reference` for the 
 
 Several CSVs are read as one: a row of a later file replaces one of an earlier file with the same
 case, size and configuration (the reference's rows from a run that has a column the other lacks).
---configs ranks only the named configurations (comma-separated).
+--configs ranks only the named configurations (comma-separated); --patch-energy judges the band
+on ke_patch_late instead of ke_late (a row without it misses the band).
 """
 import argparse
 import csv
@@ -41,8 +42,9 @@ def reference_of(config):
     return "stiff_reference" if config.startswith("stiff_") else "reference"
 
 
-def verdict(r, ref):
-    """What r misses of the bounds against ref: a list of words (empty: all met)."""
+def verdict(r, ref, energy="ke_late"):
+    """What r misses of the bounds against ref, the band judged on column `energy`: a list of words
+    (empty: all met)."""
     miss = []
     if r["stable"] != "1":
         return ["unstable"]
@@ -51,13 +53,13 @@ def verdict(r, ref):
     if not num(r["peak_stretch"]) <= 1.5 * num(ref["peak_stretch"]) + 0.02:
         miss.append("peak")
     if r["case"] in FLUTTER:
-        ratio = num(r["ke_late"]) / num(ref["ke_late"])
+        ratio = num(r.get(energy)) / num(ref.get(energy))
         if not 0.5 <= ratio <= 2:
             miss.append("energy")
     return miss
 
 
-def ranking(rows, size):
+def ranking(rows, size, band="ke_late"):
     here = [r for r in rows if r["size"] == str(size)]
     refs = {(r["config"], r["case"]): r for r in here if r["config"] in ("reference", "stiff_reference")}
     out = []
@@ -65,7 +67,7 @@ def ranking(rows, size):
         if c in ("reference", "stiff_reference"):
             continue
         by_case = {r["case"]: r for r in here if r["config"] == c}
-        judged = {x: verdict(by_case[x], refs[(reference_of(c), x)]) for x in CASES
+        judged = {x: verdict(by_case[x], refs[(reference_of(c), x)], band) for x in CASES
                   if x in by_case and (reference_of(c), x) in refs}
         stretch = sum(1 for m in judged.values() if not ({"unstable", "p99", "peak"} & set(m)))
         energy = [num(by_case[x]["ke_late"]) / num(refs[(reference_of(c), x)]["ke_late"]) for x in FLUTTER
@@ -96,6 +98,8 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("csv", nargs="*", default=["out/study/extreme.csv"])
     p.add_argument("--configs", default="", help="comma-separated configurations to rank (default: all)")
+    p.add_argument("--patch-energy", action="store_true",
+                   help="judge the energy band on ke_patch_late (the 8x8 patches' energy) instead of ke_late")
     a = p.parse_args()
     rows = read(a.csv)
     if a.configs:
@@ -103,14 +107,15 @@ def main():
         rows = [r for r in rows if r["config"] in keep]
     patches = any("ke_patch_late" in r for r in rows)
     for size in sorted({int(r["size"]) for r in rows}):
-        print(f"**{size}x{size}**: per case, the bounds a configuration misses (blank: none); cases within "
+        band = " (the energy band judged on ke_patch_late)" if a.patch_energy else ""
+        print(f"**{size}x{size}**: per case, the bounds a configuration misses{band} (blank: none); cases within "
               "the stretch bounds; ke_late / the reference's at 50 m/s and in the gale"
               + ("; the same of ke_patch_late" if patches else "") +
               "; median traj_error (NaN when a run failed); median ms per tick at its physics rate\n")
         print("| configuration | Hz | " + " | ".join(CASES) + " | stretch ok | energy 50 m/s, gale | "
               + ("patch energy | " if patches else "") + "traj | ms/tick |")
         print("|---" * (len(CASES) + 6 + patches) + "|")
-        for e in ranking(rows, size):
+        for e in ranking(rows, size, "ke_patch_late" if a.patch_energy else "ke_late"):
             cells = [", ".join(e["judged"].get(x, ["-"])) for x in CASES]
             energy = ", ".join(f"{v:.2g}" for v in e["energy"])
             patch = (", ".join(f"{v:.2g}" for v in e["patch"]) + " | ") if patches else ""
