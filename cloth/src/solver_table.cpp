@@ -111,6 +111,8 @@ const std::vector<SolverKind>& solverKinds() {
                integer<N>("max_iterations", &N::maxIterations, 1, 100, "Newton iterations per step; 1 = the linearized step"),
                real<N>("tolerance", &N::tolerance, 0, 1e3, true, false, "stop when the last iteration changed no velocity by more (m/s)"),
                real<N>("linear_tolerance", &N::linearTolerance, 0, 1, true, true, "relative residual of each linear solve"),
+               choice<N, bool>("air", &N::coupledAir, {{"coupled", true}, {"frozen", false}},
+                               "coupled: the air at every iterate, its whole derivative; frozen: the air at the step's start, its drag implicit in velocity"),
                integer<N>("threads", &N::threads, 1, 64, "worker threads (bit-identical results for any count)")},
               true),
          {}, makeNewtonSolver},

@@ -1,7 +1,8 @@
 // The converged implicit step and its parts, each against an independent computation:
 //   the air's position and velocity Jacobians against central finite differences of the force;
 //   flexible GMRES against a dense LU;
-//   a Newton step against a dense Newton solve of the same equations (finite-difference Jacobian);
+//   a Newton step against a dense Newton solve of the same equations (finite-difference Jacobian),
+//   with the air coupled and with it frozen at the step's start;
 //   the first Newton iteration against the linearized backward Euler step (sparse Cholesky);
 //   BDF2's order against a fine Runge-Kutta reference.
 
@@ -140,6 +141,9 @@ struct DenseEquations {
     Scalar h;
     const AirParams* air;
     std::vector<Index> free;  // free particles
+    // air=frozen: the force at the start and its drag, -C_i (v_i - v0_i)
+    const Points* frozen = nullptr;
+    const std::vector<Mat3>* damping = nullptr;
 
     State at(const Eigen::VectorXd& vFree) const {
         State s = start;
@@ -154,6 +158,9 @@ struct DenseEquations {
         Points f;
         computeForces(model, env, s, nullptr, f);
         if (air) addAirForces(model, s, *air, f);
+        if (frozen)
+            for (Index i = 0; i < model.particleCount(); ++i)
+                f.col(i) += frozen->col(i) - (*damping)[i] * (s.v.col(i) - start.v.col(i));
         Eigen::VectorXd g(3 * free.size());
         for (std::size_t q = 0; q < free.size(); ++q)
             g.segment<3>(3 * q) = model.masses()[free[q]] * (s.v.col(free[q]) - start.v.col(free[q])) - h * f.col(free[q]);
@@ -227,6 +234,39 @@ TEST(NewtonStep, ConvergesToTheDenseNewtonSolutionWithTheAirFullyCoupled) {
         once->step(c.flag.model, {}, s1, in);
         EXPECT_GT((s1.v - s.v).norm(), 1e-6 * s.v.norm());
     }
+}
+
+TEST(NewtonStep, WithTheAirFrozenConvergesToTheDenseSolutionOfItsEquations) {
+    // air=frozen: the air force at the start of the step, its drag (the damping blocks)
+    // implicit in velocity: G(v) = M (v - v0) - h (f(x(v), v) + f_air(0) - C (v - v0)).
+    AirCase c = airCase(5, 6, 0.02);
+    c.air.wind = Vec3(-20, 2, 5);
+    std::vector<Mat3> jacobian, damping;
+    Points frozen = Points::Zero(3, c.flag.model.particleCount());
+    addAirForces(c.flag.model, c.flag.state, c.air, frozen, &jacobian);
+    airDamping(jacobian, damping);
+    StepInput in;
+    in.h = 1.0 / 60;
+    in.pins = pinColumn(c.flag.model, Vec3(0.02, 0, 0), Vec3(1.2, 0, 0));
+    in.externalForce = &frozen;
+    in.damping = &damping;
+    DenseEquations G = denseOf(c, in);
+    G.frozen = &frozen, G.damping = &damping;
+    const Eigen::VectorXd expected = denseNewton(G);
+    ASSERT_LE(G(expected).norm(), 1e-10) << "the dense reference did not converge";
+    auto solver = solverOf("newton:air=frozen,max_iterations=60,tolerance=1e-9,linear_tolerance=1e-12");
+    ASSERT_FALSE(solver->couplesAir());
+    State s = c.flag.state;
+    const StepResult r = solver->step(c.flag.model, {}, s, in);
+    ASSERT_EQ(r.status, StepStatus::Ok);
+    Eigen::VectorXd got(expected.size());
+    for (std::size_t q = 0; q < G.free.size(); ++q) got.segment<3>(3 * q) = s.v.col(G.free[q]);
+    EXPECT_LE((got - expected).norm() / expected.norm(), 1e-8) << r.iterations << " Newton iterations";
+    // Without the drag in the equations the solution differs: the test sees the damping term.
+    DenseEquations undamped = G;
+    const std::vector<Mat3> none(damping.size(), Mat3::Zero());
+    undamped.damping = &none;
+    EXPECT_GT((denseNewton(undamped) - expected).norm(), 1e-4 * expected.norm());
 }
 
 TEST(NewtonStep, ItsFirstIterationIsTheLinearizedBackwardEulerStep) {

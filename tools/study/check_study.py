@@ -962,6 +962,27 @@ def c_patch_band_tells_steps_apart(docs):
             "linearized step 0.5-2x")
 
 
+def c_frozen_air_flutters_too_much(docs):
+    name = "stiff_frozen_air.csv"
+    rows = docs.rows(name)
+    reference_repeats(docs, name, "stiff_extreme.csv", "33")
+    reference_repeats(docs, name, "stiff_patch_energy.csv", "33", reference_table.FLUTTER)
+    whole = {e["config"]: e for e in reference_table.ranking(rows, 33)}
+    frozen = ["stiff_newton_be_240_frozen_air", "stiff_newton_bdf2_240_frozen_air", "stiff_newton_bdf2_60_frozen_air"]
+    for c in frozen:
+        need(whole[c]["judged"]["light_particles"] == ["unstable"], f"{name}: {c} with light particles: {whole[c]['judged']['light_particles']}")
+    bdf2 = whole["stiff_newton_bdf2_240_frozen_air"]
+    need(stretch_misses(bdf2) == ["light_particles"] and all(0.5 <= r <= 2 for r in bdf2["energy"]) and min(bdf2["patch"]) > 5,
+         f"{name}: BDF2 at 240 Hz frozen: stretch misses {stretch_misses(bdf2)}, energy {bdf2['energy']}, patch {bdf2['patch']} "
+         "(docs: light particles only; whole inside the band, patch over 5x)")
+    need(min(whole["stiff_newton_be_240_frozen_air"]["patch"]) > 1.4 and min(whole["stiff_newton_bdf2_60_frozen_air"]["patch"]) > 15,
+         f"{name}: patch energy of backward Euler at 240 Hz / BDF2 at 60 Hz frozen: "
+         f"{whole['stiff_newton_be_240_frozen_air']['patch']}, {whole['stiff_newton_bdf2_60_frozen_air']['patch']}")
+    return ("the air frozen at the step's start: light particles unstable in every configuration; BDF2 at 240 Hz inside the band "
+            f"on the whole energy ({', '.join(f'{r:.1f}' for r in bdf2['energy'])}x) with {', '.join(f'{r:.1f}' for r in bdf2['patch'])}x "
+            "of the patch energy")
+
+
 def c_steps_of_1920_at_65(docs):
     name = "stiff_fine_steps_65_x8.csv"
     files = ["stiff_extreme_65.csv", "stiff_fine_steps_65.csv", "stiff_patch_energy.csv", name]
@@ -1035,6 +1056,7 @@ DOC_CHECKS = [
     ("flutter_mostly_finer_than_patches", c_flutter_mostly_finer_than_patches),
     ("patch_band_tells_steps_apart", c_patch_band_tells_steps_apart),
     ("steps_of_1920_at_65", c_steps_of_1920_at_65),
+    ("frozen_air_flutters_too_much", c_frozen_air_flutters_too_much),
 ]
 
 

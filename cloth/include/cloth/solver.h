@@ -107,6 +107,10 @@ struct NewtonSettings {
     int maxIterations = 8;          // Newton iterations per step; 1 = the linearized step
     double tolerance = 1e-3;        // stop when the last iteration changed no velocity by more, m/s
     double linearTolerance = 1e-2;  // relative residual of each iteration's linear solve
+    // coupled: the air evaluated at every iterate with its whole derivative; frozen: the air at
+    // the step's start (the caller's external force), its drag implicit in velocity as the other
+    // implicit solvers take it (StepInput::damping)
+    bool coupledAir = true;
     int threads = 1;
 };
 

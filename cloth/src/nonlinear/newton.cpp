@@ -44,6 +44,8 @@ void NewtonSolve::linearize(const StepEquations& eq, const State& at, bool exact
         air_.velocityDiagonal(eq.model, airDiagonal_);
         airDamping(airDiagonal_, airDamping_);
         in.damping = &airDamping_;
+    } else {
+        in.damping = eq.input.damping;  // the caller's frozen air's drag, implicit in velocity
     }
     multigrid_.prepareSystem({eq.model, eq.env, at, in, eq.compressionRule});
 }

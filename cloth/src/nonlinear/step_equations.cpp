@@ -13,7 +13,12 @@ void stagePositions(const StepEquations& eq, State& at) {
 
 void stepForces(const StepEquations& eq, const State& at, Points& f, ThreadPool* pool, AirWorkspace* workspace) {
     computeForces(eq.model, eq.env, at, eq.input.externalForce, f);
-    if (eq.input.air) addAirForces(eq.model, at, *eq.input.air, f, nullptr, pool, workspace);
+    if (eq.input.air) {
+        addAirForces(eq.model, at, *eq.input.air, f, nullptr, pool, workspace);
+    } else if (eq.input.damping && eq.vStart) {
+        for (Index i = 0; i < eq.model.particleCount(); ++i)
+            f.col(i) -= (*eq.input.damping)[i] * (at.v.col(i) - eq.vStart->col(i));
+    }
 }
 
 Scalar stepResidual(const StepEquations& eq, const State& at, const Points& f, const std::vector<std::uint8_t>& pinned,

@@ -7,7 +7,9 @@
 //   theta-midpoint   x_n, v_n, theta h for the stage velocity u (forces at x_n + theta h u, u);
 //                    then v_{n+1} = v_n + (u - v_n) / theta, x_{n+1} = x_n + h u. theta = 1/2 is
 //                    the implicit midpoint rule (second order, no numerical damping).
-// With StepInput::air the solver evaluates the air itself at every iterate (couplesAir()).
+// With StepInput::air the solver evaluates the air itself at every iterate (couplesAir(), air=coupled);
+// with air=frozen it takes the caller's air force at the step's start and its drag as
+// StepInput::damping, linear in v about v_n.
 
 #include "nonlinear/newton.h"
 #include "solver_table.h"
@@ -21,7 +23,7 @@ namespace {
 
 class NewtonSolver final : public Solver {
 public:
-    bool couplesAir() const override { return true; }
+    bool couplesAir() const override { return settings<NewtonSettings>().coupledAir; }
     void resetHistory() override { previous_ = {}; }
 
     StepResult step(const Model& model, const Environment& env, State& state, const StepInput& input) override {
@@ -29,7 +31,7 @@ public:
         if (!newton_) newton_ = std::make_unique<NewtonSolve>(pool_);
         const NewtonSettings& s = settings<NewtonSettings>();
         auto t0 = Clock::now();
-        StepEquations eq{model, env, input, state.x, state.v, input.h, config_.compressionRule, {}};
+        StepEquations eq{model, env, input, state.x, state.v, input.h, config_.compressionRule, {}, &state.v};
         const bool bdf2 = s.integrator == NewtonSettings::Integrator::BDF2 && previous_.x.cols() == state.x.cols() &&
                           previousH_ == input.h && previousModel_ == model.id();
         if (bdf2) {
