@@ -874,12 +874,17 @@ def c_xpbd_keeps_flutter_not_stretch(docs):
             "light particles unstable below 1920 Hz")
 
 
-def reference_repeats(docs, name, source, size, cases=reference_table.CASES):
-    """The stiff reference is deterministic: its rows in `name` repeat those in `source`."""
+def rows_repeat(docs, name, source, size, config="stiff_reference", cases=reference_table.CASES):
+    """The runs are deterministic: `config`'s rows in `name` repeat those in `source`."""
     for x in cases:
-        a, b = (one(docs.rows(f), f, config="stiff_reference", case=x, size=size) for f in (name, source))
+        a, b = (one(docs.rows(f), f, config=config, case=x, size=size) for f in (name, source))
         need(all(a[k] == b[k] for k in ("stable", "p99_stretch", "peak_stretch", "ke_late", "ke_windows")),
-             f"{name}: the reference's {x} row differs from {source}'s")
+             f"{name}: {config}'s {x} row differs from {source}'s")
+
+
+def reference_repeats(docs, name, source, size, cases=reference_table.CASES):
+    """The stiff reference's rows in `name` repeat those in `source`."""
+    rows_repeat(docs, name, source, size, "stiff_reference", cases)
 
 
 def c_fine_bdf2_steps_within_every_bound(docs):
@@ -924,10 +929,7 @@ def c_flutter_mostly_finer_than_patches(docs):
     flutter = reference_table.FLUTTER
     reference_repeats(docs, name, "stiff_extreme.csv", "33", flutter)
     reference_repeats(docs, name, "stiff_extreme_65.csv", "65", flutter)
-    for x in flutter:  # the 240x4 rows at 65x65 repeat the fine-step CSV's
-        a, b = at("stiff_newton_bdf2_240x4", x, "65"), one(docs.rows("stiff_fine_steps_65.csv"), "stiff_fine_steps_65.csv",
-                                                            config="stiff_newton_bdf2_240x4", case=x, size="65")
-        need(all(a[k] == b[k] for k in ("p99_stretch", "ke_late", "ke_windows")), f"{name}: 240x4 at 65x65 in {x} differs")
+    rows_repeat(docs, name, "stiff_fine_steps_65.csv", "65", "stiff_newton_bdf2_240x4", flutter)
     ratio = lambda c, x, n, k: num(at(c, x, n)[k]) / num(at("stiff_reference", x, n)[k])
     for n, most in (("33", 0.25), ("65", 0.1)):
         for x in flutter:
@@ -987,13 +989,9 @@ def c_fine_steps_trajectories(docs):
     name = "stiff_fine_traj.csv"
     rows = docs.rows(name)
     reference_repeats(docs, name, "stiff_extreme.csv", "33")
-    traj = {}
-    for x in reference_table.CASES:
-        r = one(rows, name, config="stiff_newton_bdf2_240x4", case=x, size="33")
-        f = one(docs.rows("stiff_fine_steps.csv"), "stiff_fine_steps.csv", config="stiff_newton_bdf2_240x4", case=x, size="33")
-        need(all(r[k] == f[k] for k in ("stable", "p99_stretch", "peak_stretch", "ke_late", "ke_windows")),
-             f"{name}: 240x4's {x} row differs from stiff_fine_steps.csv's")
-        traj[x] = (num(r["traj_error"]), num(stiff(docs, "stiff_newton_bdf2_60", x)["traj_error"]))
+    rows_repeat(docs, name, "stiff_fine_steps.csv", "33", "stiff_newton_bdf2_240x4")
+    traj = {x: (num(one(rows, name, config="stiff_newton_bdf2_240x4", case=x, size="33")["traj_error"]),
+                num(stiff(docs, "stiff_newton_bdf2_60", x)["traj_error"])) for x in reference_table.CASES}
     lower = sorted(x for x, (a, b) in traj.items() if a < b)
     need(lower == ["gale_40mps", "spin_5radps", "stop_10g", "teleport_1m"],
          f"{name}: 240x4 drifts less than BDF2 at 60 Hz in {lower} (docs: stop, spin, teleport, gale)")
@@ -1006,7 +1004,8 @@ def c_steps_of_1920_at_65(docs):
     files = ["stiff_extreme_65.csv", "stiff_fine_steps_65.csv", "stiff_patch_energy.csv", name]
     rows = reference_table.read([os.path.join(docs.d, f) for f in files])
     rank = lambda band: {e["config"]: e for e in reference_table.ranking(rows, 65, band)}
-    x8, x4 = rank("ke_patch_late")["stiff_newton_bdf2_240x8"], rank("ke_patch_late")["stiff_newton_bdf2_240x4"]
+    by_patch = rank("ke_patch_late")
+    x8, x4 = by_patch["stiff_newton_bdf2_240x8"], by_patch["stiff_newton_bdf2_240x4"]
     need(len(x8["judged"]) == 6 and not any(x8["judged"].values()),
          f"{name}: 240x8 at 65x65 misses {x8['judged']} with the band on the patch energy (docs: nothing)")
     need(x4["judged"]["teleport_1m"] == ["peak"] and sum(1 for m in x4["judged"].values() if m) == 1,

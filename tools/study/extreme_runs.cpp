@@ -85,9 +85,12 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
     std::nth_element(tickMs.begin(), tickMs.begin() + tickMs.size() / 2, tickMs.end());
     r.msPerTick = tickMs[tickMs.size() / 2];
     const std::size_t perWindow = std::size_t(std::lround(kEnergyWindow / h)), perSecond = std::size_t(std::lround(1 / h));
+    const auto lastSecond = [perSecond](const std::vector<double>& v) {
+        return mean(v, v.size() - std::min(v.size(), perSecond), v.size());
+    };
     r.energyMean = mean(energy, 0, energy.size());
-    r.energyLate = mean(energy, energy.size() - std::min(energy.size(), perSecond), energy.size());
-    r.patchEnergyLate = mean(patch, patch.size() - std::min(patch.size(), perSecond), patch.size());
+    r.energyLate = lastSecond(energy);
+    r.patchEnergyLate = lastSecond(patch);
     for (std::size_t w = 0; w < energy.size(); w += perWindow)
         r.energyWindows.push_back(mean(energy, w, std::min(energy.size(), w + perWindow)));
     const long long steps = std::max(1LL, flag.steps());

@@ -42,9 +42,9 @@ def reference_of(config):
     return "stiff_reference" if config.startswith("stiff_") else "reference"
 
 
-def verdict(r, ref, energy="ke_late"):
-    """What r misses of the bounds against ref, the band judged on column `energy`: a list of words
-    (empty: all met)."""
+def verdict(r, ref, band="ke_late"):
+    """What r misses of the bounds against ref, the energy band judged on column `band`: a list of
+    words (empty: all met)."""
     miss = []
     if r["stable"] != "1":
         return ["unstable"]
@@ -53,7 +53,7 @@ def verdict(r, ref, energy="ke_late"):
     if not num(r["peak_stretch"]) <= 1.5 * num(ref["peak_stretch"]) + 0.02:
         miss.append("peak")
     if r["case"] in FLUTTER:
-        ratio = num(r.get(energy)) / num(ref.get(energy))
+        ratio = num(r.get(band)) / num(ref.get(band))
         if not 0.5 <= ratio <= 2:
             miss.append("energy")
     return miss
@@ -70,13 +70,12 @@ def ranking(rows, size, band="ke_late"):
         judged = {x: verdict(by_case[x], refs[(reference_of(c), x)], band) for x in CASES
                   if x in by_case and (reference_of(c), x) in refs}
         stretch = sum(1 for m in judged.values() if not ({"unstable", "p99", "peak"} & set(m)))
-        energy = [num(by_case[x]["ke_late"]) / num(refs[(reference_of(c), x)]["ke_late"]) for x in FLUTTER
-                  if x in by_case and (reference_of(c), x) in refs]
-        patch = [num(by_case[x].get("ke_patch_late")) / num(refs[(reference_of(c), x)].get("ke_patch_late"))
-                 for x in FLUTTER if x in by_case and (reference_of(c), x) in refs]
+        ratios = lambda column: [num(by_case[x].get(column)) / num(refs[(reference_of(c), x)].get(column))
+                                 for x in FLUTTER if x in by_case and (reference_of(c), x) in refs]
         ms = statistics.median(num(r["ms_per_tick"]) for r in by_case.values())
         traj = [num(r["traj_error"]) for r in by_case.values()]
-        out.append({"config": c, "judged": judged, "stretch": stretch, "energy": energy, "patch": patch, "ms": ms,
+        out.append({"config": c, "judged": judged, "stretch": stretch, "energy": ratios("ke_late"),
+                    "patch": ratios("ke_patch_late"), "ms": ms,
                     "hz": by_case[CASES[0]]["physics_hz"] if CASES[0] in by_case else "",
                     "traj": statistics.median(traj) if all(math.isfinite(t) for t in traj) else math.nan,
                     "all": sum(1 for m in judged.values() if not m)})

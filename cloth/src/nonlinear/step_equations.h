@@ -4,9 +4,9 @@
 // backward Euler:  xHat = x_n, vHat = v_n, k = h
 // BDF2:            xHat = (4 x_n - x_{n-1}) / 3, vHat = (4 v_n - v_{n-1}) / 3, k = 2 h / 3
 // f: gravity, linear drag, the springs (eq. 15), the caller's external force and, when the step
-// couples the air, the air at x(v), v (air.h); else, with input.damping, -C_i (v_i - v_n,i). Pinned particles take their target's velocity and
-// sit at pinX, where the integrator puts their target at the stage (a pole that jumps moves its
-// pins in the equations, not only after them).
+// couples the air, the air at x(v), v (air.h); else, with input.damping, -C_i (v_i - v_n,i).
+// Pinned particles take their target's velocity and sit at pinX, where the integrator puts their
+// target at the stage (a pole that jumps moves its pins in the equations, not only after them).
 
 #include <vector>
 
