@@ -2,7 +2,8 @@
 // with its carrier has none; one translating at u relative to it has M |u|^2 / 2 in both the
 // whole and the patch energy; one whose columns carry momentum +m u and -m u in turn
 // (grid-scale motion) has sum m^2 |u|^2 / 2 m_i in the whole energy and none at the patches' scale;
-// one whose halves move at +u and -u has M |u|^2 / 2 in both.
+// one whose halves move at +u and -u has M |u|^2 / 2 in both. Each at every patch count the study
+// writes.
 
 #include <gtest/gtest.h>
 
@@ -12,7 +13,7 @@
 
 namespace {
 
-cloth::Model grid(int n) {  // n x n particles, 2 x 2 per patch when n = 2 kPatches
+cloth::Model grid(int n) {  // n x n particles, 2 x 2 per patch when n = 2 patches
     cloth::GridDesc d;
     d.nx = d.ny = n;
     d.totalMass = 0.25;
@@ -39,9 +40,11 @@ Carried carried(int n) {
 }  // namespace
 
 TEST(FlutterEnergy, IsZeroForAFlagMovingWithItsCarrier) {
-    const Carried f = carried(2 * study::kPatches);
-    EXPECT_NEAR(study::carrierEnergy(f.m, f.s, f.c), 0.0, 1e-20);
-    EXPECT_NEAR(study::patchEnergy(f.m, f.s, f.c), 0.0, 1e-20);
+    for (int patches : study::kPatchCounts) {
+        const Carried f = carried(2 * patches);
+        EXPECT_NEAR(study::carrierEnergy(f.m, f.s, f.c), 0.0, 1e-20);
+        EXPECT_NEAR(study::patchEnergy(f.m, f.s, f.c, patches), 0.0, 1e-20) << patches;
+    }
 }
 
 TEST(FlutterEnergy, ATranslationCountsWholeAtEveryScale) {
@@ -50,38 +53,44 @@ TEST(FlutterEnergy, ATranslationCountsWholeAtEveryScale) {
     for (cloth::Index i = 0; i < f.m.particleCount(); ++i) f.s.v.col(i) += u;
     const double expected = 0.5 * 0.25 * u.squaredNorm();
     EXPECT_NEAR(study::carrierEnergy(f.m, f.s, f.c), expected, 1e-12);
-    EXPECT_NEAR(study::patchEnergy(f.m, f.s, f.c), expected, 1e-12);
+    for (int patches : study::kPatchCounts) EXPECT_NEAR(study::patchEnergy(f.m, f.s, f.c, patches), expected, 1e-12) << patches;
 }
 
 TEST(FlutterEnergy, MotionAtTheScaleOfPatchesCountsWhole) {
     // The flag's two halves move at +u and -u: every patch moves as one, so the patch energy is
     // the whole M |u|^2 / 2, while the flag's mean momentum is zero.
-    const int n = 2 * study::kPatches;
-    Carried f = carried(n);
-    const Eigen::Vector3d u(0, 0, 3);
-    for (cloth::Index i = 0; i < f.m.particleCount(); ++i) f.s.v.col(i) += (i % n) < n / 2 ? u : Eigen::Vector3d(-u);
-    EXPECT_NEAR(study::carrierEnergy(f.m, f.s, f.c), 0.5 * 0.25 * u.squaredNorm(), 1e-12);
-    EXPECT_NEAR(study::patchEnergy(f.m, f.s, f.c), 0.5 * 0.25 * u.squaredNorm(), 1e-12);
+    for (int patches : study::kPatchCounts) {
+        const int n = 2 * patches;
+        Carried f = carried(n);
+        const Eigen::Vector3d u(0, 0, 3);
+        for (cloth::Index i = 0; i < f.m.particleCount(); ++i) f.s.v.col(i) += (i % n) < n / 2 ? u : Eigen::Vector3d(-u);
+        EXPECT_NEAR(study::carrierEnergy(f.m, f.s, f.c), 0.5 * 0.25 * u.squaredNorm(), 1e-12);
+        EXPECT_NEAR(study::patchEnergy(f.m, f.s, f.c, patches), 0.5 * 0.25 * u.squaredNorm(), 1e-12) << patches;
+    }
 }
 
 TEST(FlutterEnergy, GridScaleMotionHasNoPatchEnergy) {
     // Columns alternate momentum +m u and -m u (m: the mean particle mass; the lumped masses
     // differ at the edges), so every 2 x 2 patch's momentum cancels.
-    const int n = 2 * study::kPatches;
-    Carried f = carried(n);
-    const Eigen::Vector3d u(0, 0, 3);
-    const double mean = 0.25 / f.m.particleCount();
-    double expected = 0;
-    for (cloth::Index i = 0; i < f.m.particleCount(); ++i) {
-        const double mi = f.m.masses()[i];
-        f.s.v.col(i) += ((i % n) % 2 == 0 ? 1.0 : -1.0) * mean / mi * u;
-        expected += 0.5 * mean * mean / mi * u.squaredNorm();
+    for (int patches : study::kPatchCounts) {
+        const int n = 2 * patches;
+        Carried f = carried(n);
+        const Eigen::Vector3d u(0, 0, 3);
+        const double mean = 0.25 / f.m.particleCount();
+        double expected = 0;
+        for (cloth::Index i = 0; i < f.m.particleCount(); ++i) {
+            const double mi = f.m.masses()[i];
+            f.s.v.col(i) += ((i % n) % 2 == 0 ? 1.0 : -1.0) * mean / mi * u;
+            expected += 0.5 * mean * mean / mi * u.squaredNorm();
+        }
+        EXPECT_NEAR(study::carrierEnergy(f.m, f.s, f.c), expected, 1e-12 * expected);
+        EXPECT_LT(study::patchEnergy(f.m, f.s, f.c, patches), 1e-12 * expected) << patches;
     }
-    EXPECT_NEAR(study::carrierEnergy(f.m, f.s, f.c), expected, 1e-12 * expected);
-    EXPECT_LT(study::patchEnergy(f.m, f.s, f.c), 1e-12 * expected);
 }
 
 TEST(FlutterEnergy, IsNotDefinedOnAGridCoarserThanItsPatches) {
-    const Carried f = carried(study::kPatches - 1);
-    EXPECT_TRUE(std::isnan(study::patchEnergy(f.m, f.s, f.c)));
+    for (int patches : study::kPatchCounts) {
+        const Carried f = carried(patches - 1);
+        EXPECT_TRUE(std::isnan(study::patchEnergy(f.m, f.s, f.c, patches))) << patches;
+    }
 }

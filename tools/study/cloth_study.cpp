@@ -543,7 +543,7 @@ public:
     static const char* header() {
         return "row,case,size,config,stable,failures,ms_per_tick,timing,max_stretch,peak_stretch,p99_stretch,"
                "late_max_stretch,max_speed,physics_hz,ke_mean,ke_late,ke_windows,traj_error,iterations_mean,"
-               "iterations_max,ke_patch_late\n";
+               "iterations_max,ke_patch_late,ke_patch4_late,ke_patch16_late\n";
     }
     std::string row(long index, const Extreme& x, int size, const Variant& v, const char* timing) {
         const engine::SceneConfig s = sceneOf(x, size, v);
@@ -561,10 +561,11 @@ public:
             windows += fmt(e);
         }
         char line[700];
-        std::snprintf(line, sizeof line, "%ld,%s,%d,%s,%d,%d,%.4g,%s,%.4g,%.4g,%.4g,%.4g,%.4g,%g,%.4g,%.4g,%s,%.4g,%.4g,%d,%.4g\n",
+        std::snprintf(line, sizeof line, "%ld,%s,%d,%s,%d,%d,%.4g,%s,%.4g,%.4g,%.4g,%.4g,%.4g,%g,%.4g,%.4g,%s,%.4g,%.4g,%d,%.4g,%.4g,%.4g\n",
                       index, x.name.c_str(), size, v.name.c_str(), r.stable ? 1 : 0, r.failures, r.msPerTick, timing,
                       r.maxStretch, r.peakStretch, r.p99Stretch, r.lateStretch, r.maxSpeed, double(s.physicsHz), r.energyMean,
-                      r.energyLate, windows.c_str(), traj, r.iterationsMean, r.iterationsMax, r.patchEnergyLate);
+                      r.energyLate, windows.c_str(), traj, r.iterationsMean, r.iterationsMax, r.patchEnergyLate[0],
+                      r.patchEnergyLate[1], r.patchEnergyLate[2]);
         return line;
     }
 

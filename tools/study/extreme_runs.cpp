@@ -38,20 +38,20 @@ double carrierEnergy(const cloth::Model& m, const cloth::State& s, const engine:
     return e;
 }
 
-double patchEnergy(const cloth::Model& m, const cloth::State& s, const engine::RigidFrame& c) {
+double patchEnergy(const cloth::Model& m, const cloth::State& s, const engine::RigidFrame& c, int patches) {
     const int nx = m.gridNx(), ny = m.gridNy();
-    if (nx < kPatches || ny < kPatches) return NAN;
-    std::vector<double> mass(kPatches * kPatches, 0.0);
-    std::vector<Eigen::Vector3d> momentum(kPatches * kPatches, Eigen::Vector3d::Zero());
+    if (patches < 1 || nx < patches || ny < patches) return NAN;
+    std::vector<double> mass(patches * patches, 0.0);
+    std::vector<Eigen::Vector3d> momentum(patches * patches, Eigen::Vector3d::Zero());
     for (int r = 0; r < ny; ++r)
         for (int col = 0; col < nx; ++col) {
             const cloth::Index i = cloth::Index(r) * nx + col;
-            const int patch = (r * kPatches / ny) * kPatches + col * kPatches / nx;
+            const int patch = (r * patches / ny) * patches + col * patches / nx;
             mass[patch] += m.masses()[i];
             momentum[patch] += m.masses()[i] * (s.v.col(i) - c.velocityAt(s.x.col(i)));
         }
     double e = 0;
-    for (int p = 0; p < kPatches * kPatches; ++p) e += 0.5 * momentum[p].squaredNorm() / mass[p];
+    for (int p = 0; p < patches * patches; ++p) e += 0.5 * momentum[p].squaredNorm() / mass[p];
     return e;
 }
 
@@ -59,7 +59,8 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
     engine::Flag flag(s, mount, x.carrier(0));
     const double h = 1.0 / s.physicsHz;
     ExtremeRun r;
-    std::vector<double> tickMs, energy, patch;
+    std::vector<double> tickMs, energy;
+    std::array<std::vector<double>, kPatchCounts.size()> patch;
     if (keepStates) r.states.push_back(flag.state());
     const int ticks = int(std::floor(x.duration / h + 1e-9));
     for (int k = 1; k <= ticks; ++k) {
@@ -70,7 +71,8 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
         const cloth::Diagnostics d = cloth::measure(flag.model(), {}, flag.state(), true);
         record(r, d, flag, c, x, k * h);
         energy.push_back(carrierEnergy(flag.model(), flag.state(), c));
-        patch.push_back(patchEnergy(flag.model(), flag.state(), c));
+        for (std::size_t p = 0; p < kPatchCounts.size(); ++p)
+            patch[p].push_back(patchEnergy(flag.model(), flag.state(), c, kPatchCounts[p]));
         if (keepStates) r.states.push_back(flag.state());
         // Stable: finite and bounded throughout (positions within 100 m of the pole, speeds under
         // 1000 m/s), no failed cloth step, and strain back under 50% over the last second: a
@@ -90,7 +92,7 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
     };
     r.energyMean = mean(energy, 0, energy.size());
     r.energyLate = lastSecond(energy);
-    r.patchEnergyLate = lastSecond(patch);
+    for (std::size_t p = 0; p < kPatchCounts.size(); ++p) r.patchEnergyLate[p] = lastSecond(patch[p]);
     for (std::size_t w = 0; w < energy.size(); w += perWindow)
         r.energyWindows.push_back(mean(energy, w, std::min(energy.size(), w + perWindow)));
     const long long steps = std::max(1LL, flag.steps());

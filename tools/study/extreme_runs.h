@@ -10,6 +10,7 @@
 // runs it at twice as many too, and the docs hold every figure to change under 5% when the step
 // halves.
 
+#include <array>
 #include <vector>
 
 #include "cloth/model.h"
@@ -28,9 +29,10 @@ struct ExtremeRun {
     // mean over the run, over the last second, and over each window of kEnergyWindow seconds.
     double energyMean = 0, energyLate = 0;
     std::vector<double> energyWindows;
-    // The last second's mean of the same energy counted at the scale of kPatches x kPatches
-    // patches of the grid (each patch's momentum): the flutter without the grid-scale motion.
-    double patchEnergyLate = 0;
+    // The last second's mean of the same energy counted at the scale of P x P patches of the grid
+    // (each patch's momentum), for each P of kPatchCounts: the flutter without the motion finer
+    // than a patch.
+    std::array<double, 3> patchEnergyLate{};
     double iterationsMean = 0;  // the solver's iterations per step (newton: Newton iterations)
     int iterationsMax = 0;
     std::vector<cloth::State> states;  // the state after every tick, when kept (the reference)
@@ -38,17 +40,19 @@ struct ExtremeRun {
 
 constexpr double kEnergyWindow = 0.5;  // s
 constexpr double kHorizon = 0.25;      // s: the restarts of the trajectory error
-constexpr int kPatches = 8;            // patches per side of the patch energy
+// Patches per side of the patch energies: 8 is the study's judge (ke_patch_late), 4 and 16 show
+// how its verdict depends on the patch size (ke_patch4_late, ke_patch16_late).
+constexpr std::array<int, 3> kPatchCounts = {8, 4, 16};
 
 // The kinetic energy of state s of model m in carrier c's frame, sum of m |v - v_c(x)|^2 / 2 (J).
 double carrierEnergy(const cloth::Model& m, const cloth::State& s, const engine::RigidFrame& c);
 
-// The same energy at the scale of the grid's kPatches x kPatches patches (particle (col, r) in
-// patch (col kPatches / nx, r kPatches / ny)): each patch's mass and momentum in c's frame, sum
-// of |p|^2 / 2m. Motion inside a patch does not count, so at any resolution it measures the same
+// The same energy at the scale of the grid's `patches` x `patches` patches (particle (col, r) in
+// patch (col patches / nx, r patches / ny)): each patch's mass and momentum in c's frame, sum of
+// |p|^2 / 2m. Motion inside a patch does not count, so at any resolution it measures the same
 // physical flutter, without the grid-scale motion. NaN for a model that is not a grid of at least
-// kPatches per side.
-double patchEnergy(const cloth::Model& m, const cloth::State& s, const engine::RigidFrame& c);
+// `patches` per side.
+double patchEnergy(const cloth::Model& m, const cloth::State& s, const engine::RigidFrame& c, int patches);
 
 // Runs scene `s`'s flag (its solver, constraints, substeps, air) on case x's carrier.
 ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mount, const Extreme& x, bool keepStates);

@@ -9,7 +9,8 @@ median cost. The bounds (the stiff flag's goal):
     the reference's, in the cases where the flag flutters (50 m/s, gale).
 Beside them, when the CSV has it, the same ratio of the energy at the scale of 8 x 8 patches of
 the flag (ke_patch_late, tools/study/extreme_runs.h): the flutter without its grid-scale motion.
-It is shown, and judged with --patch-energy.
+It is shown, and judged with --patch-energy; --patch-energy 4 or 16 judges (and shows) the energy
+of 4 x 4 or 16 x 16 patches instead (ke_patch4_late, ke_patch16_late).
 A configuration is judged against its own flag's reference: `reference` for the demo's flag,
 `stiff_reference` for the stiff flag (configurations named stiff_*).
 
@@ -27,6 +28,7 @@ import math
 import statistics
 import sys
 
+PATCH_COLUMNS = {8: "ke_patch_late", 4: "ke_patch4_late", 16: "ke_patch16_late"}
 CASES = ["speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"]
 FLUTTER = ["speed_50mps", "gale_40mps"]
 
@@ -59,7 +61,9 @@ def verdict(r, ref, band="ke_late"):
     return miss
 
 
-def ranking(rows, size, band="ke_late"):
+def ranking(rows, size, band="ke_late", patch="ke_patch_late"):
+    """Every configuration at `size` judged against its reference, the energy band on column
+    `band`; the patch energy ratios shown from column `patch`."""
     here = [r for r in rows if r["size"] == str(size)]
     refs = {(r["config"], r["case"]): r for r in here if r["config"] in ("reference", "stiff_reference")}
     out = []
@@ -75,7 +79,7 @@ def ranking(rows, size, band="ke_late"):
         ms = statistics.median(num(r["ms_per_tick"]) for r in by_case.values())
         traj = [num(r["traj_error"]) for r in by_case.values()]
         out.append({"config": c, "judged": judged, "stretch": stretch, "energy": ratios("ke_late"),
-                    "patch": ratios("ke_patch_late"), "ms": ms,
+                    "patch": ratios(patch), "ms": ms,
                     "hz": by_case[CASES[0]]["physics_hz"] if CASES[0] in by_case else "",
                     "traj": statistics.median(traj) if all(math.isfinite(t) for t in traj) else math.nan,
                     "all": sum(1 for m in judged.values() if not m)})
@@ -97,24 +101,26 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("csv", nargs="*", default=["out/study/extreme.csv"])
     p.add_argument("--configs", default="", help="comma-separated configurations to rank (default: all)")
-    p.add_argument("--patch-energy", action="store_true",
-                   help="judge the energy band on ke_patch_late (the 8x8 patches' energy) instead of ke_late")
+    p.add_argument("--patch-energy", nargs="?", type=int, const=8, choices=sorted(PATCH_COLUMNS),
+                   help="judge the energy band on the energy of PATCH_ENERGY x PATCH_ENERGY patches (default 8: "
+                        "ke_patch_late) instead of ke_late")
     a = p.parse_args()
     rows = read(a.csv)
     if a.configs:
         keep = set(a.configs.split(",")) | {"reference", "stiff_reference"}
         rows = [r for r in rows if r["config"] in keep]
-    patches = any("ke_patch_late" in r for r in rows)
+    column = PATCH_COLUMNS[a.patch_energy or 8]
+    patches = any(column in r for r in rows)
     for size in sorted({int(r["size"]) for r in rows}):
-        band = " (the energy band judged on ke_patch_late)" if a.patch_energy else ""
+        band = f" (the energy band judged on {column})" if a.patch_energy else ""
         print(f"**{size}x{size}**: per case, the bounds a configuration misses{band} (blank: none); cases within "
               "the stretch bounds; ke_late / the reference's at 50 m/s and in the gale"
-              + ("; the same of ke_patch_late" if patches else "") +
+              + (f"; the same of {column}" if patches else "") +
               "; median traj_error (NaN when a run failed); median ms per tick at its physics rate\n")
         print("| configuration | Hz | " + " | ".join(CASES) + " | stretch ok | energy 50 m/s, gale | "
               + ("patch energy | " if patches else "") + "traj | ms/tick |")
         print("|---" * (len(CASES) + 6 + patches) + "|")
-        for e in ranking(rows, size, "ke_patch_late" if a.patch_energy else "ke_late"):
+        for e in ranking(rows, size, column if a.patch_energy else "ke_late", column):
             cells = [", ".join(e["judged"].get(x, ["-"])) for x in CASES]
             energy = ", ".join(f"{v:.2g}" for v in e["energy"])
             patch = (", ".join(f"{v:.2g}" for v in e["patch"]) + " | ") if patches else ""
