@@ -720,6 +720,13 @@ int main(int argc, char** argv) {
                  {"stiff_newton_bdf2_240x4", "newton:integrator=bdf2", 4, -1, true, 240},
                  {"stiff_newton_bdf2_240x4_loose", "newton:integrator=bdf2,tolerance=0.01", 4, -1, true, 240},
                  {"stiff_newton_bdf2_240x8", "newton:integrator=bdf2", 8, -1, true, 240},
+                 // the same steps with Newton capped at 1, 2 or 3 iterations, and the linearized
+                 // symmetric step (the air's partial Jacobian) in steps of 1/960 s
+                 {"stiff_newton_bdf2_240x4_1", "newton:integrator=bdf2,max_iterations=1", 4, -1, true, 240},
+                 {"stiff_newton_bdf2_240x4_2", "newton:integrator=bdf2,max_iterations=2", 4, -1, true, 240},
+                 {"stiff_newton_bdf2_240x4_3", "newton:integrator=bdf2,max_iterations=3", 4, -1, true, 240},
+                 {"stiff_newton_bdf2_240x8_2", "newton:integrator=bdf2,max_iterations=2", 8, -1, true, 240},
+                 {"stiff_multigrid_240x4", "multigrid", 4, 1, true, 240},
                  // the air frozen at the step's start, its drag implicit in velocity; the springs converged
                  {"stiff_newton_be_240_frozen_air", "newton:air=frozen", 1, -1, true, 240},
                  {"stiff_newton_bdf2_240_frozen_air", "newton:integrator=bdf2,air=frozen", 1, -1, true, 240},
