@@ -1017,6 +1017,64 @@ def c_steps_of_1920_at_65(docs):
             f"of the patch energy, {', '.join(f'{r:.2f}' for r in whole['energy'])}x of the whole")
 
 
+
+def c_patch_size_sets_the_upper_edge(docs):
+    name = "stiff_patch_sizes.csv"
+    rows = docs.rows(name)
+    flutter = reference_table.FLUTTER
+    for c in ("stiff_reference", "stiff_newton_bdf2_240x4"):
+        for n in ("33", "65"):
+            rows_repeat(docs, name, "stiff_patch_energy.csv", n, c, flutter)
+    share = lambda x, n, column: (num(one(rows, name, config="stiff_reference", case=x, size=n)[column])
+                                  / num(one(rows, name, config="stiff_reference", case=x, size=n)["ke_late"]))
+    for n, four, sixteen in (("33", (0.03, 0.07), (0.4, 0.55)), ("65", (0.015, 0.03), (0.15, 0.25))):
+        for x in flutter:
+            a, b = share(x, n, "ke_patch4_late"), share(x, n, "ke_patch16_late")
+            need(four[0] < a < four[1] and sixteen[0] < b < sixteen[1],
+                 f"{name}: the reference's 4x4 / 16x16 share of its whole energy at {n}, {x}: {a:.1%}, {b:.1%} "
+                 f"(docs: {four[0]:.1%}-{four[1]:.0%}, {sixteen[0]:.0%}-{sixteen[1]:.0%})")
+    ranked = {p: {n: next(e for e in reference_table.ranking(rows, n, column, column) if e["config"] == "stiff_newton_bdf2_240x4")
+                  for n in (33, 65)}
+              for p, column in reference_table.PATCH_COLUMNS.items()}
+    for n in (33, 65):
+        for p in (8, 16):
+            need(all(0.5 <= r <= 2 for r in ranked[p][n]["patch"]), f"{name}: 240x4 keeps {ranked[p][n]['patch']} of the {p}x{p} energy at {n}")
+        four = ranked[4][n]["patch"]
+        need(0.5 <= four[0] <= 2 and 2 < four[1] < 2.2, f"{name}: 240x4 keeps {four} of the 4x4 energy at {n} (docs: inside at 50 m/s, 2-2.2x in the gale)")
+        need(ranked[16][n]["patch"][1] < ranked[8][n]["patch"][1] < four[1],
+             f"{name}: the gale's ratio does not fall with the patches' size at {n}")
+    return ("the verdict of the patch band against the patch size: 1/960 s steps keep 0.5-2x of the 8x8 and 16x16 energies at "
+            "33 and 65 per side, and just over 2x of the gale's 4x4 energy")
+
+
+def c_two_newton_iterations_in_small_steps(docs):
+    name = "stiff_capped_newton.csv"
+    rows = reference_table.read([os.path.join(docs.d, f) for f in ("stiff_extreme.csv", "stiff_patch_energy.csv", name)])
+    ranked = {e["config"]: e for e in reference_table.ranking(rows, 33, "ke_patch_late")}
+    capped = {c: ranked[c] for c in ("stiff_newton_bdf2_240x4_1", "stiff_newton_bdf2_240x4_2", "stiff_newton_bdf2_240x4_3",
+                                     "stiff_multigrid_240x4")}
+    misses = {c: {x: m for x, m in e["judged"].items() if m} for c, e in capped.items()}
+    want = {"stiff_newton_bdf2_240x4_1": {"speed_50mps": ["energy"], "teleport_1m": ["p99"], "gale_40mps": ["energy"]},
+            "stiff_newton_bdf2_240x4_2": {},
+            "stiff_newton_bdf2_240x4_3": {"teleport_1m": ["p99"]},
+            "stiff_multigrid_240x4": {"speed_50mps": ["energy"], "light_particles": ["unstable"], "gale_40mps": ["energy"]}}
+    need(misses == want, f"{name}: with the band on the patch energy the capped steps miss {misses} (docs: {want})")
+    for k in (1, 2, 3):
+        its = {num(one(docs.rows(name), name, config=f"stiff_newton_bdf2_240x4_{k}", case=x, size="33")["iterations_mean"])
+               for x in reference_table.CASES}
+        need(max(its) <= k and min(its) > k - 0.01, f"{name}: the cap of {k} gives {sorted(its)} Newton iterations per step")
+    two = capped["stiff_newton_bdf2_240x4_2"]
+    need(max(two["energy"]) < 0.5, f"{name}: two iterations keep {two['energy']} of the whole energy (docs: under 0.5x)")
+    name65 = "stiff_capped_newton_65.csv"
+    rows65 = reference_table.read([os.path.join(docs.d, f) for f in ("stiff_extreme_65.csv", "stiff_patch_energy.csv", name65)])
+    at65 = {e["config"]: {x: m for x, m in e["judged"].items() if m} for e in reference_table.ranking(rows65, 65, "ke_patch_late")}
+    want65 = {"stiff_newton_bdf2_240x4_2": {"teleport_1m": ["unstable"], "gale_40mps": ["energy"]},
+              "stiff_newton_bdf2_240x8_2": {"teleport_1m": ["p99"]}}
+    need({c: at65[c] for c in want65} == want65, f"{name65}: two iterations at 65x65 miss {at65} (docs: {want65})")
+    return (f"in steps of 1/960 s two Newton iterations are within every bound at 33x33 with the band on the patch energy "
+            f"({', '.join(f'{r:.2f}' for r in two['patch'])}x), one or three miss the teleport's p99, the linearized step "
+            "loses light particles; at 65x65 two lose the teleport in steps of 1/960 and 1/1920 s")
+
 DOC_CHECKS = [
     # docs/study.md, part 1
     ("paper_step_leaves_solve_error", c_paper_step_leaves_solve_error),
@@ -1075,6 +1133,8 @@ DOC_CHECKS = [
     ("steps_of_1920_at_65", c_steps_of_1920_at_65),
     ("frozen_air_flutters_too_much", c_frozen_air_flutters_too_much),
     ("fine_steps_trajectories", c_fine_steps_trajectories),
+    ("patch_size_sets_the_upper_edge", c_patch_size_sets_the_upper_edge),
+    ("two_newton_iterations_in_small_steps", c_two_newton_iterations_in_small_steps),
 ]
 
 
