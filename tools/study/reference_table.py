@@ -29,6 +29,8 @@ import statistics
 import sys
 
 PATCH_COLUMNS = {8: "ke_patch_late", 4: "ke_patch4_late", 16: "ke_patch16_late"}
+# The columns a CSV must have (traj_error and the patch energies are optional: NaN when absent).
+REQUIRED = ["case", "size", "config", "stable", "p99_stretch", "peak_stretch", "ms_per_tick", "physics_hz", "ke_late"]
 CASES = ["speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"]
 FLUTTER = ["speed_50mps", "gale_40mps"]
 
@@ -77,7 +79,7 @@ def ranking(rows, size, band="ke_late", patch="ke_patch_late"):
         ratios = lambda column: [num(by_case[x].get(column)) / num(refs[(reference_of(c), x)].get(column))
                                  for x in FLUTTER if x in by_case and (reference_of(c), x) in refs]
         ms = statistics.median(num(r["ms_per_tick"]) for r in by_case.values())
-        traj = [num(r["traj_error"]) for r in by_case.values()]
+        traj = [num(r.get("traj_error")) for r in by_case.values()]
         out.append({"config": c, "judged": judged, "stretch": stretch, "energy": ratios("ke_late"),
                     "patch": ratios(patch), "ms": ms,
                     "hz": by_case[CASES[0]]["physics_hz"] if CASES[0] in by_case else "",
@@ -92,7 +94,12 @@ def read(paths):
     merged = {}
     for path in paths:
         with open(path, newline="") as f:
-            for r in csv.DictReader(f):
+            reader = csv.DictReader(f)
+            missing = [c for c in REQUIRED if c not in (reader.fieldnames or [])]
+            if missing:
+                sys.exit(f"{path}: no column {', '.join(missing)}: not an extreme-case CSV of cloth_study with the "
+                         "reference's figures")
+            for r in reader:
                 merged[(r["case"], r["size"], r["config"])] = r
     return list(merged.values())
 
