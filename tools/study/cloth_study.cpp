@@ -726,6 +726,7 @@ int main(int argc, char** argv) {
                  {"stiff_newton_bdf2_240x4_2", "newton:integrator=bdf2,max_iterations=2", 4, -1, true, 240},
                  {"stiff_newton_bdf2_240x4_3", "newton:integrator=bdf2,max_iterations=3", 4, -1, true, 240},
                  {"stiff_newton_bdf2_240x8_2", "newton:integrator=bdf2,max_iterations=2", 8, -1, true, 240},
+                 {"stiff_newton_bdf2_240x8_3", "newton:integrator=bdf2,max_iterations=3", 8, -1, true, 240},
                  {"stiff_multigrid_240x4", "multigrid", 4, 1, true, 240},
                  // the air frozen at the step's start, its drag implicit in velocity; the springs converged
                  {"stiff_newton_be_240_frozen_air", "newton:air=frozen", 1, -1, true, 240},
