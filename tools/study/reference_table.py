@@ -88,10 +88,19 @@ def ranking(rows, size, band="ke_late", patch="ke_patch_late"):
     return sorted(out, key=lambda e: (-e["all"], -e["stretch"], e["ms"]))
 
 
-def read(paths):
-    """The rows of every CSV in paths, a later file's row replacing an earlier one's with the same
-    case, size and configuration."""
+def merge(tables):
+    """The rows of every table (a list of rows) in turn, a later table's row replacing an earlier
+    one's with the same case, size and configuration."""
     merged = {}
+    for rows in tables:
+        for r in rows:
+            merged[(r["case"], r["size"], r["config"])] = r
+    return list(merged.values())
+
+
+def read(paths):
+    """The rows of every CSV in paths, merged (merge)."""
+    tables = []
     for path in paths:
         with open(path, newline="") as f:
             reader = csv.DictReader(f)
@@ -99,9 +108,8 @@ def read(paths):
             if missing:
                 sys.exit(f"{path}: no column {', '.join(missing)}: not an extreme-case CSV of cloth_study with the "
                          "reference's figures")
-            for r in reader:
-                merged[(r["case"], r["size"], r["config"])] = r
-    return list(merged.values())
+            tables.append(list(reader))
+    return merge(tables)
 
 
 def main():
