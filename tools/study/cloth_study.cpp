@@ -540,6 +540,8 @@ public:
     // trajectories: whether the configurations get traj_error (each a run against the reference).
     ExtremeStudy(const engine::SceneConfig& demo, const engine::SceneConfig& stiff, bool trajectories)
         : demo_(demo), stiff_(stiff), trajectories_(trajectories) {}
+    // The patch energy columns name kPatchCounts in order.
+    static_assert(study::kPatchCounts == std::array<int, 3>{8, 4, 16});
     static const char* header() {
         return "row,case,size,config,stable,failures,ms_per_tick,timing,max_stretch,peak_stretch,p99_stretch,"
                "late_max_stretch,max_speed,physics_hz,ke_mean,ke_late,ke_windows,traj_error,iterations_mean,"

@@ -20,6 +20,10 @@
 
 namespace study {
 
+// Patches per side of the patch energies: 8 is the study's judge (ke_patch_late), 4 and 16 show
+// how its verdict depends on the patch size (ke_patch4_late, ke_patch16_late).
+constexpr std::array<int, 3> kPatchCounts = {8, 4, 16};
+
 struct ExtremeRun {
     bool stable = true;
     int failures = 0;
@@ -32,7 +36,7 @@ struct ExtremeRun {
     // The last second's mean of the same energy counted at the scale of P x P patches of the grid
     // (each patch's momentum), for each P of kPatchCounts: the flutter without the motion finer
     // than a patch.
-    std::array<double, 3> patchEnergyLate{};
+    std::array<double, kPatchCounts.size()> patchEnergyLate{};
     double iterationsMean = 0;  // the solver's iterations per step (newton: Newton iterations)
     int iterationsMax = 0;
     std::vector<cloth::State> states;  // the state after every tick, when kept (the reference)
@@ -40,9 +44,6 @@ struct ExtremeRun {
 
 constexpr double kEnergyWindow = 0.5;  // s
 constexpr double kHorizon = 0.25;      // s: the restarts of the trajectory error
-// Patches per side of the patch energies: 8 is the study's judge (ke_patch_late), 4 and 16 show
-// how its verdict depends on the patch size (ke_patch4_late, ke_patch16_late).
-constexpr std::array<int, 3> kPatchCounts = {8, 4, 16};
 
 // The kinetic energy of state s of model m in carrier c's frame, sum of m |v - v_c(x)|^2 / 2 (J).
 double carrierEnergy(const cloth::Model& m, const cloth::State& s, const engine::RigidFrame& c);
