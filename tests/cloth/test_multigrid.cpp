@@ -11,9 +11,10 @@
 
 #include "cloth/air.h"
 #include "cloth/presets.h"
+#include "cloth/multigrid_settings.h"
 #include "cloth/solver.h"
 #include "multigrid/multigrid.h"
-#include "solver_table.h"
+#include "registry/solver_registry.h"
 #include "solver_spec.h"
 
 using namespace cloth;

@@ -34,6 +34,7 @@
 #include "cloth/air.h"
 #include "cloth/collision.h"
 #include "cloth/presets.h"
+#include "cloth/multigrid_settings.h"
 #include "cloth/solver.h"
 #include "cloth/constraints.h"
 #include "cloth/system.h"

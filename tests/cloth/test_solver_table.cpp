@@ -9,7 +9,8 @@
 
 #include "cloth/presets.h"
 #include "cloth/solver.h"
-#include "solver_table.h"
+#include "registry/constraint_keys.h"
+#include "registry/solver_registry.h"
 
 using namespace cloth;
 

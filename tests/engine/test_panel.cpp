@@ -15,6 +15,7 @@
 
 #include "engine/input_script.h"
 #include "engine/runtime.h"
+#include "tests/kinds/damped_explicit_kind.h"
 
 using namespace engine;
 
@@ -145,4 +146,29 @@ TEST(Panel, SwitchesTheSolverWhileDrivingAndTheRecordedInputReplaysToTheSameFram
     EXPECT_TRUE(rt.flag()->state().x == liveEnd.x);
     EXPECT_EQ(rt.scene().flag.solver.name, "kangcho");
     std::filesystem::remove(recorded);
+}
+
+// A solver kind written in one test file and registered (tests/kinds/damped_explicit_kind.cpp)
+// appears in the panel, which reads the registry, with its keys; a click runs it.
+TEST(Panel, ListsAKindAddedInOneFileAndRunsIt) {
+    if (!std::getenv("DISPLAY")) GTEST_SKIP() << "no DISPLAY (run under xvfb-run)";
+    cloth::registerDampedExplicit();
+    RunOptions o;
+    o.window = true;
+    o.readback = true;
+    o.frames = 12;
+    Runtime rt(drivingScene(), o);
+    auto click = [](Runtime& r) {
+        const int f = r.frameIndex();
+        if (f < 4 || f > 6) return;
+        const auto rect = r.widgetRect(std::string("solver ") + cloth::kDampedExplicit);
+        ASSERT_TRUE(rect) << "the panel drew no radio button for the registered kind";
+        const int x = int(((*rect)[0] + (*rect)[2]) / 2), y = int(((*rect)[1] + (*rect)[3]) / 2);
+        SDL_Event e = mouse(f == 4 ? SDL_MOUSEMOTION : f == 5 ? SDL_MOUSEBUTTONDOWN : SDL_MOUSEBUTTONUP, x, y);
+        SDL_PushEvent(&e);
+    };
+    run(rt, click);
+    EXPECT_EQ(rt.scene().flag.solver.describe(), "damped_explicit:damping=0.01");
+    EXPECT_TRUE(rt.widgetRect("damping")) << "no field for the kind's key";
+    ASSERT_EQ(rt.finish(), 0);
 }

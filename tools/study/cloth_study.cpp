@@ -42,6 +42,7 @@
 #include "cloth/air.h"
 #include "cloth/diagnostics.h"
 #include "cloth/presets.h"
+#include "cloth/multigrid_settings.h"
 #include "cloth/solver.h"
 #include "engine/flag.h"
 #include "engine/input_script.h"

@@ -1,9 +1,10 @@
 #pragma once
 // Solvers behind one small interface, chosen by name with parameters: "name[:key=value,...]".
-// Every solver kind has its own settings struct and a table of its keys (name, type, range,
-// default, one line of doc; cloth/src/solver_table.h). The string parser, the scene parser of the
-// engine, validation, describe(), the --help text and the README's solver table all come from
-// that table: `solverHelp()` prints it. The kinds:
+// Every solver kind has its own file with its settings struct, a table of its keys (name, type,
+// range, default, one line of doc) and its factory, registered in the solver registry
+// (cloth/src/registry/solver_registry.h). The string parser, the scene parser of the engine,
+// validation, describe(), the --help text, the README's solver table and the demo's panel all
+// come from that registry: `solverHelp()` prints it. The kinds:
 //   kangcho    the paper: Jacobi iterations of the linearized backward Euler system
 //   exact      the same system solved to a tolerance (sparse Cholesky, CG or multigrid)
 //   cg         exact with method=cg
@@ -19,11 +20,11 @@
 // A step never throws and never hands back a non-finite state: on failure the state is left as
 // it was before the step and the status says why.
 
+#include <any>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
-#include <variant>
 #include <vector>
 
 #include "cloth/constraints.h"
@@ -31,108 +32,17 @@
 
 namespace cloth {
 
-struct KangChoSettings {
-    int iterations = 1;  // Jacobi sweeps after dv(0); 1 is the paper's step (eq. 14)
-    // fast = the stencil layout when the springs form a few constant index offsets (grids), else
-    // the per-particle gather; gather = always the latter; reference = the paper's step written
-    // equation by equation (paper_step.cpp).
-    enum class Impl { Fast, Gather, Reference };
-    Impl impl = Impl::Fast;
-    int threads = 1;               // worker threads (results identical for any count)
-    bool singlePrecision = false;  // float arithmetic in the step (the state stays double)
-};
-
-struct ExactSettings {
-    enum class Method { Cholesky, CG, Multigrid };
-    Method method = Method::Cholesky;
-    double tolerance = 1e-10;  // relative residual the solve must reach, or the step fails
-    int maxIterations = 10000; // cg: iterations; multigrid: V-cycles
-    // cg only: a fixed number of iterations, an approximation that never fails the step for not
-    // converging (as kangcho:iterations=N); 0 = until the tolerance, within max_iterations.
-    int iterations = 0;
-};
-
-// The multigrid's tuning: settled by the study (docs/multigrid.md, each choice with its CSV), so
-// not a key. The benchmark, the study and the tests may set it; unset, a solver takes
-// settledTuning() of its settings.
-struct MultigridTuning {
-    bool krylov = true;             // the cycles precondition CG; false: the cycles alone
-    int kcycleLevels = 1;           // coarse levels 1..N are K-cycles; 0: V-cycles
-    int startHistory = 2;           // start from the best combination of the last N solves' dv; 0: from zero
-    double localTolerance = 1e-2;   // adaptive: also no particle's |W_ii^-1 r_i| above this times max |dv_i|
-    int preSweeps = 1, postSweeps = 1;
-    double damping = 0.7;           // smoother: x += damping W_ii^-1 r
-    bool aggregation = false;       // smoothed aggregation on grids too (meshes always)
-    int coarseEvery = 1;            // coarse operators rebuilt every this many solves
-    int coarsestParticles = 16;     // coarsen until a level has at most this many
-    int stencilGalerkinMinRow = 33; // the Galerkin product by stencil from this many coarse points per row
-};
-
-struct MultigridSettings {
-    int cycles = 0;             // fixed number of cycles; 0 = until the tolerance, within maxCycles
-    double tolerance = 1.5e-3;  // adaptive: relative residual to reach
-    int maxCycles = 16;
-    int threads = 1;
-    // double; mixed: float cycles preconditioning a double CG; float: all in float
-    enum class Precision { Double, Mixed, Float };
-    Precision precision = Precision::Double;
-    std::optional<MultigridTuning> tuning;  // unset: settledTuning(*this)
-};
-
-// The tuning the study settled for these settings: CG, except around one fixed cycle in double
-// (which CG would only scale); when adaptive a K-cycle on level 1 and a start from the last two
-// solves, for a fixed count V-cycles from zero.
-MultigridTuning settledTuning(const MultigridSettings& settings);
-
-struct ChebyshevSettings {
-    int iterations = 1;
-    double rho = 0;  // Jacobi spectral radius; 0 = estimated from the system each step
-};
-
-struct DesbrunSettings {};
-
-struct ExplicitSettings {
-    int substeps = 1;
-};
-
-// newton: the implicit step solved to convergence (nonlinear/newton.h): Newton iterations on the
-// step's equations, each a GMRES solve preconditioned by the multigrid hierarchy, with the air
-// fully coupled (its position and velocity derivatives, evaluated at the new state).
-struct NewtonSettings {
-    // be: backward Euler; bdf2: BDF2; midpoint: the theta-midpoint rule (theta = 1/2: implicit
-    // midpoint, which damps no mode; theta = 1: backward Euler)
-    enum class Integrator { BackwardEuler, BDF2, Midpoint };
-    Integrator integrator = Integrator::BackwardEuler;
-    double theta = 0.5;             // midpoint: where in the step the forces are taken
-    int maxIterations = 8;          // Newton iterations per step; 1 = the linearized step
-    double tolerance = 1e-3;        // stop when the last iteration changed no velocity by more, m/s
-    double linearTolerance = 1e-2;  // relative residual of each iteration's linear solve
-    // coupled: the air evaluated at every iterate with its whole derivative; frozen: the air at
-    // the step's start (the caller's external force), its drag implicit in velocity as the other
-    // implicit solvers take it (StepInput::damping)
-    bool coupledAir = true;
-    int threads = 1;
-};
-
-// xpbd: each spring a compliant distance constraint (compliance 1/k: the same energy), projected
-// by Gauss-Seidel after an unconstrained prediction; run in small steps (the scene's substeps or
-// physics rate), one iteration per step (Macklin et al. 2019).
-struct XpbdSettings {
-    int iterations = 1;  // passes over the springs per step
-    bool chains = false;  // a grid's rows and columns of structural springs each solved at once
-};
-
 struct SolverConfig {
+    SolverConfig();  // the paper's step: kangcho at its defaults
     std::string name = "kangcho";
     bool compressionRule = true;  // implicit kinds: eq. 17 in the Jacobian
-    std::variant<KangChoSettings, ExactSettings, MultigridSettings, ChebyshevSettings, DesbrunSettings,
-                 ExplicitSettings, NewtonSettings, XpbdSettings>
-        settings;
-    // The settings of this config's kind (std::bad_variant_access for another kind).
+    // The settings struct of the config's kind (each kind declares its own, in its file).
+    std::any settings;
+    // The settings of this config's kind (std::bad_any_cast for another kind's).
     template <class S>
-    const S& get() const { return std::get<S>(settings); }
+    const S& get() const { return std::any_cast<const S&>(settings); }
     template <class S>
-    S& get() { return std::get<S>(settings); }
+    S& get() { return std::any_cast<S&>(settings); }
     // "name:key=value,..." with the keys that differ from the kind's defaults (and those the
     // table always shows); parseSolverConfig reads it back to the same config.
     std::string describe() const;

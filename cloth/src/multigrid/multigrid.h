@@ -19,6 +19,7 @@
 #include <string>
 
 #include "block_matrix.h"
+#include "cloth/multigrid_settings.h"
 #include "cloth/solver.h"
 #include "cloth/thread_pool.h"
 

@@ -1,4 +1,4 @@
-#include "solver_table.h"
+#include "registry/solver_registry.h"
 #include "solvers/step_common.h"
 
 #include "cloth/diagnostics.h"
@@ -6,6 +6,11 @@
 namespace cloth {
 
 namespace {
+
+struct ChebyshevSettings {
+    int iterations = 1;
+    double rho = 0;
+};
 
 // Jacobi with Chebyshev semi-iterative acceleration (H. Wang, "A Chebyshev Semi-Iterative
 // Approach for Accelerating Projective and Position-based Dynamics", SIGGRAPH Asia 2015):
@@ -45,6 +50,16 @@ class ChebyshevSolver final : public ImplicitSolver {
 
 }  // namespace
 
-std::unique_ptr<Solver> makeChebyshevSolver(const SolverConfig& config) { return createSolver<ChebyshevSolver>(config); }
+FLAGSIM_SOLVER_KIND(chebyshev) {
+    using C = ChebyshevSettings;
+    using key = SolverKeys;
+    return {"chebyshev", "Jacobi with Chebyshev semi-iterative acceleration (Wang 2015)", defaultsTo<C>,
+            withCommon({key::shown(key::integer("iterations", &C::iterations, 0, 100000,
+                                                "accelerated Jacobi sweeps after dv(0)")),
+                        key::real("rho", &C::rho, 0, 1, false, true, "Jacobi spectral radius; 0 = estimated each step")},
+                       true),
+            {},
+            createSolver<ChebyshevSolver>};
+}
 
 }  // namespace cloth

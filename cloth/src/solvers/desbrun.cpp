@@ -1,7 +1,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "kernels.h"
-#include "solver_table.h"
+#include "registry/solver_registry.h"
 #include "solvers/step_common.h"
 
 #include "cloth/diagnostics.h"
@@ -92,6 +92,10 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Solver> makeDesbrunSolver(const SolverConfig& config) { return createSolver<DesbrunSolver>(config); }
+FLAGSIM_SOLVER_KIND(desbrun) {
+    struct DesbrunSettings {};
+    return {"desbrun", "Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once",
+            defaultsTo<DesbrunSettings>, withCommon({}, false), {}, createSolver<DesbrunSolver>};
+}
 
 }  // namespace cloth

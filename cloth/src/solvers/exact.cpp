@@ -7,7 +7,8 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
-#include "solver_table.h"
+#include "registry/solver_registry.h"
+#include "solvers/exact_settings.h"
 #include "solvers/step_common.h"
 
 namespace cloth {
@@ -61,9 +62,52 @@ class ExactSolver final : public ImplicitSolver {
 
 }  // namespace
 
+// exact:method=multigrid is the multigrid solver held to the tolerance (multigrid_solver.cpp).
+std::unique_ptr<Solver> makeStrictMultigridSolver(const SolverConfig& config);
+
+namespace {
+
 std::unique_ptr<Solver> makeExactSolver(const SolverConfig& config) {
-    if (config.get<ExactSettings>().method == ExactSettings::Method::Multigrid) return makeMultigridSolver(config);
+    if (config.get<ExactSettings>().method == ExactSettings::Method::Multigrid) return makeStrictMultigridSolver(config);
     return createSolver<ExactSolver>(config);
+}
+
+// The keys of exact (with method=) and of cg (with iterations= instead).
+std::vector<SolverKey> exactKeys(bool withMethod) {
+    using E = ExactSettings;
+    using key = SolverKeys;
+    std::vector<SolverKey> own;
+    if (withMethod)
+        own.push_back(key::shown(key::choice(
+            "method", &E::method,
+            {{"cholesky", E::Method::Cholesky}, {"cg", E::Method::CG}, {"multigrid", E::Method::Multigrid}},
+            "how the system is solved")));
+    else
+        own.push_back(key::integer("iterations", &E::iterations, 0, 1000000,
+                                   "a fixed number of iterations, an approximation; 0 = until the tolerance"));
+    own.push_back(key::shown(key::real("tolerance", &E::tolerance, 0, 1, true, true,
+                                       "relative residual the solve must reach, else the step fails")));
+    own.push_back(key::integer("max_iterations", &E::maxIterations, 1, 1000000,
+                               "cg: iterations; multigrid: cycles (at most 1000)"));
+    return withCommon(std::move(own), true);
+}
+
+void cgDefaults(SolverConfig& c) {
+    ExactSettings s;
+    s.method = ExactSettings::Method::CG;
+    c.settings = s;
+}
+
+}  // namespace
+
+FLAGSIM_SOLVER_KIND(exact) {
+    return {"exact", "the same system solved to a tolerance: the reference", defaultsTo<ExactSettings>,
+            exactKeys(true), {}, makeExactSolver};
+}
+
+FLAGSIM_SOLVER_KIND(cg) {
+    return {"cg", "exact with method=cg: conjugate gradients, diagonal preconditioner", cgDefaults, exactKeys(false), {},
+            makeExactSolver};
 }
 
 }  // namespace cloth

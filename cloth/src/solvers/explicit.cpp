@@ -1,4 +1,4 @@
-#include "solver_table.h"
+#include "registry/solver_registry.h"
 #include "solvers/step_common.h"
 
 #include "cloth/diagnostics.h"
@@ -6,6 +6,10 @@
 namespace cloth {
 
 namespace {
+
+struct ExplicitSettings {
+    int substeps = 1;
+};
 
 // Symplectic Euler with substeps: v += hs f / m, x += hs v. Pinned particles move straight to
 // their targets.
@@ -55,6 +59,13 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Solver> makeExplicitSolver(const SolverConfig& config) { return createSolver<ExplicitSolver>(config); }
+FLAGSIM_SOLVER_KIND(explicit) {
+    using X = ExplicitSettings;
+    using key = SolverKeys;
+    return {"explicit", "symplectic Euler: v += h f / m, x += h v, in substeps", defaultsTo<X>,
+            withCommon({key::shown(key::integer("substeps", &X::substeps, 1, 100000, "substeps per step"))}, false),
+            {},
+            createSolver<ExplicitSolver>};
+}
 
 }  // namespace cloth

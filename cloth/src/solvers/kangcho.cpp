@@ -4,13 +4,24 @@
 // step written equation by equation (paper_step.cpp). The tests compare all three.
 
 #include "fast_kangcho.h"
-#include "solver_table.h"
+#include "registry/solver_registry.h"
 #include "solvers/step_common.h"
 #include "stencil_kangcho.h"
 
 namespace cloth {
 
 namespace {
+
+// The kind's settings; each field's key, with its doc, is in the kind's table below.
+struct KangChoSettings {
+    int iterations = 1;
+    // fast: the stencil layout when the springs form a few constant index offsets (grids), else
+    // the gather; gather: always the gather; reference: the paper's step as written.
+    enum class Impl { Fast, Gather, Reference };
+    Impl impl = Impl::Fast;
+    int threads = 1;
+    bool singlePrecision = false;
+};
 
 // The stencil layout when the model's springs form a few constant offsets, else the gather.
 template <class T>
@@ -49,6 +60,22 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Solver> makeKangChoSolver(const SolverConfig& config) { return createSolver<KangChoSolver>(config); }
+FLAGSIM_SOLVER_KIND(kangcho) {
+    using K = KangChoSettings;
+    using key = SolverKeys;
+    return {"kangcho", "the paper: dv(0) and Jacobi sweeps of the linearized backward Euler system (eqs. 11, 14)",
+            defaultsTo<K>,
+            withCommon({key::shown(key::integer("iterations", &K::iterations, 0, 100000,
+                                                "Jacobi sweeps after dv(0); 1 = the paper's step")),
+                        key::choice("impl", &K::impl,
+                                    {{"fast", K::Impl::Fast}, {"gather", K::Impl::Gather}, {"reference", K::Impl::Reference}},
+                                    "fast: stencil layout on grids, else gather; reference: the paper's step as written"),
+                        threadsKey<K>(),
+                        key::choice("precision", &K::singlePrecision, {{"double", false}, {"float", true}},
+                                    "arithmetic of the step (the state stays double)")},
+                       true),
+            {},
+            createSolver<KangChoSolver>};
+}
 
 }  // namespace cloth

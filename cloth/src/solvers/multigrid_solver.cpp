@@ -4,10 +4,11 @@
 // the tolerance, with a cap; or a fixed number of V-cycles. The count is in the step's result.
 
 #include <algorithm>
-#include <variant>
+#include <typeinfo>
 
 #include "multigrid/multigrid.h"
-#include "solver_table.h"
+#include "registry/solver_registry.h"
+#include "solvers/exact_settings.h"
 #include "solvers/step_common.h"
 
 namespace cloth {
@@ -22,7 +23,7 @@ public:
 
 private:
     // exact:method=multigrid runs here too: CG with cycles to its tolerance, which it must reach.
-    bool strict() const { return std::holds_alternative<ExactSettings>(config_.settings); }
+    bool strict() const { return config_.settings.type() == typeid(ExactSettings); }
     MultigridSettings multigridSettings() const {
         if (!strict()) return settings<MultigridSettings>();
         MultigridSettings m;
@@ -55,6 +56,46 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Solver> makeMultigridSolver(const SolverConfig& config) { return createSolver<MultigridSolver>(config); }
+std::unique_ptr<Solver> makeStrictMultigridSolver(const SolverConfig& config) { return createSolver<MultigridSolver>(config); }
+
+namespace {
+
+// multigrid's own keys: what a user chooses. Its tuning (MultigridTuning) is not a key.
+std::vector<SolverKey> multigridKeys() {
+    using M = MultigridSettings;
+    using P = M::Precision;
+    using key = SolverKeys;
+    return withCommon({key::shown(key::integer("cycles", &M::cycles, 0, 1000, "fixed cycles; 0 = adaptive (tolerance, max_cycles)")),
+                       key::real("tolerance", &M::tolerance, 0, 1, true, true, "adaptive: relative residual to reach"),
+                       key::integer("max_cycles", &M::maxCycles, 1, 1000, "adaptive: at most this many cycles"),
+                       threadsKey<M>(),
+                       key::choice("precision", &M::precision,
+                                   {{"double", P::Double}, {"mixed", P::Mixed}, {"float", P::Float}},
+                                   "arithmetic of the solve (the state stays double); mixed: float cycles "
+                                   "preconditioning a double CG")},
+                      true);
+}
+
+std::string multigridCheck(const SolverConfig& c) {
+    const MultigridSettings& s = c.get<MultigridSettings>();
+    if (s.precision == MultigridSettings::Precision::Float && s.tolerance < 1e-6)
+        return "solver 'multigrid' parameter tolerance = " + std::to_string(s.tolerance) +
+               " is below what precision=float can reach (>= 1e-6)";
+    if (!s.tuning) return {};
+    if (s.tuning->preSweeps + s.tuning->postSweeps == 0)
+        return "solver 'multigrid': its tuning has no smoothing sweeps (pre + post must be at least 1)";
+    if (s.precision == MultigridSettings::Precision::Mixed && !s.tuning->krylov)
+        return "solver 'multigrid' parameter precision = mixed needs its tuning's CG (the double CG corrects the "
+               "float cycles)";
+    return {};
+}
+
+}  // namespace
+
+FLAGSIM_SOLVER_KIND(multigrid) {
+    return {"multigrid",
+            "multigrid cycles on the same system (damped Jacobi smoother, Galerkin coarse levels), as CG's preconditioner",
+            defaultsTo<MultigridSettings>, multigridKeys(), multigridCheck, createSolver<MultigridSolver>};
+}
 
 }  // namespace cloth

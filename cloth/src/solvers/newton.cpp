@@ -12,7 +12,7 @@
 // StepInput::damping, linear in v about v_n.
 
 #include "nonlinear/newton.h"
-#include "solver_table.h"
+#include "registry/solver_registry.h"
 #include "solvers/step_common.h"
 
 #include "cloth/diagnostics.h"
@@ -20,6 +20,18 @@
 namespace cloth {
 
 namespace {
+
+// The kind's settings; each field's key, with its doc, is in the kind's table at the end.
+struct NewtonSettings {
+    enum class Integrator { BackwardEuler, BDF2, Midpoint };
+    Integrator integrator = Integrator::BackwardEuler;
+    double theta = 0.5;
+    int maxIterations = 8;
+    double tolerance = 1e-3;
+    double linearTolerance = 1e-2;
+    bool coupledAir = true;
+    int threads = 1;
+};
 
 class NewtonSolver final : public Solver {
 public:
@@ -83,6 +95,29 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Solver> makeNewtonSolver(const SolverConfig& config) { return createSolver<NewtonSolver>(config); }
+FLAGSIM_SOLVER_KIND(newton) {
+    using N = NewtonSettings;
+    using key = SolverKeys;
+    return {"newton", "the implicit step converged: Newton iterations, GMRES with multigrid, the air fully coupled",
+            defaultsTo<N>,
+            withCommon(
+                {key::shown(key::choice("integrator", &N::integrator,
+                                        {{"be", N::Integrator::BackwardEuler}, {"bdf2", N::Integrator::BDF2},
+                                         {"midpoint", N::Integrator::Midpoint}},
+                                        "backward Euler; BDF2 (Choi & Ko 2002; its first step backward Euler); theta-midpoint")),
+                 key::real("theta", &N::theta, 0.5, 1, false, false,
+                           "midpoint: forces at x_n + theta h u; 1/2 damps no mode, 1 is backward Euler"),
+                 key::integer("max_iterations", &N::maxIterations, 1, 100, "Newton iterations per step; 1 = the linearized step"),
+                 key::real("tolerance", &N::tolerance, 0, 1e3, true, false,
+                           "stop when the last iteration changed no velocity by more (m/s)"),
+                 key::real("linear_tolerance", &N::linearTolerance, 0, 1, true, true, "relative residual of each linear solve"),
+                 key::choice("air", &N::coupledAir, {{"coupled", true}, {"frozen", false}},
+                             "coupled: the air at every iterate, its whole derivative; frozen: the air at the step's start, "
+                             "its drag implicit in velocity"),
+                 threadsKey<N>()},
+                true),
+            {},
+            createSolver<NewtonSolver>};
+}
 
 }  // namespace cloth

@@ -13,13 +13,6 @@ const char* toString(StepStatus status) {
     return i < std::size(names) ? names[i] : "?";
 }
 
-int threadsOf(const SolverConfig& config) {
-    if (const auto* k = std::get_if<KangChoSettings>(&config.settings)) return k->threads;
-    if (const auto* m = std::get_if<MultigridSettings>(&config.settings)) return m->threads;
-    if (const auto* m = std::get_if<NewtonSettings>(&config.settings)) return m->threads;
-    return 1;
-}
-
 StepResult commit(const Model& model, ConstraintSet& constraints, const StepInput& input, ThreadPool& pool,
                   State& state, State& scratch, StepResult result) {
     const Index n = static_cast<Index>(state.x.cols());

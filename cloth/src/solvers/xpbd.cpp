@@ -10,7 +10,7 @@
 // and columns of structural springs are each projected at once first (xpbd_chains.h). Then
 // v = (x - x_n) / h. The passes run in a fixed order on one thread: the same bits for any caller.
 
-#include "solver_table.h"
+#include "registry/solver_registry.h"
 #include "solvers/step_common.h"
 #include "solvers/xpbd_chains.h"
 
@@ -20,6 +20,11 @@
 namespace cloth {
 
 namespace {
+
+struct XpbdSettings {
+    int iterations = 1;
+    bool chains = false;
+};
 
 class XpbdSolver final : public Solver {
 public:
@@ -119,6 +124,18 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Solver> makeXpbdSolver(const SolverConfig& config) { return createSolver<XpbdSolver>(config); }
+FLAGSIM_SOLVER_KIND(xpbd) {
+    using P = XpbdSettings;
+    using key = SolverKeys;
+    return {"xpbd", "the springs as compliant constraints (compliance 1/k), Gauss-Seidel projection; in small steps",
+            defaultsTo<P>,
+            withCommon({key::shown(key::integer("iterations", &P::iterations, 1, 10000, "passes over the springs per step")),
+                        key::shown(key::choice("chains", &P::chains, {{"on", true}, {"off", false}},
+                                               "on: a grid's rows and columns of structural springs each a chain solved at "
+                                               "once (tridiagonal), the rest Gauss-Seidel; off: all Gauss-Seidel"))},
+                       false),
+            {},
+            createSolver<XpbdSolver>};
+}
 
 }  // namespace cloth
