@@ -1,5 +1,5 @@
 #pragma once
-// How the vectorized kernels (stencil_kangcho.cpp, multigrid.cpp) ask the compiler for SIMD.
+// How the vectorized kernels (kangcho/stencil.cpp, multigrid.cpp) ask the compiler for SIMD.
 
 // Kernels are cloned for x86-64-v3 (AVX2, FMA) and the baseline; the dynamic loader picks one
 // per CPU. Clang and other targets get the baseline only. The library is built with

@@ -150,7 +150,7 @@ std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* erro
 bool solveExact(const Model& model, const LinearSystem& sys, Points& dv, Scalar* residual = nullptr,
                 Scalar tolerance = 1e-10);
 
-// The paper's step (paper_step.cpp, kangcho's impl=reference): builds the system at `state`,
+// The paper's step (kangcho/as_written.cpp, kangcho's impl=reference): builds the system at `state`,
 // then dv(0) and `iterations` Jacobi sweeps into dv.
 void paperStep(const StepProblem& problem, int iterations, LinearSystem& sys, Points& dv);
 

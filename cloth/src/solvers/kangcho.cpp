@@ -1,12 +1,12 @@
 // kangcho: the paper's step. dv(0) = W_ii^-1 b_i, then `iterations` Jacobi sweeps (eq. 11); one
-// sweep is eq. 14. The fast paths (stencil_kangcho.h for grids, fast_kangcho.h for any mesh)
+// sweep is eq. 14. The fast paths (kangcho/stencil.h for grids, kangcho/gather.h for any mesh)
 // compute the same iterates without assembling the system; the reference path is the paper's
-// step written equation by equation (paper_step.cpp). The tests compare all three.
+// step written equation by equation (kangcho/as_written.cpp). The tests compare all three.
 
-#include "fast_kangcho.h"
+#include "kangcho/gather.h"
 #include "registry/solver_registry.h"
 #include "solvers/step_common.h"
-#include "stencil_kangcho.h"
+#include "kangcho/stencil.h"
 
 namespace cloth {
 
@@ -27,7 +27,7 @@ struct KangChoSettings {
 template <class T>
 std::unique_ptr<KangChoLayout> layoutFor(ThreadPool& pool, std::vector<int> offsets) {
     if (!offsets.empty()) return std::make_unique<StencilKangCho<T>>(pool, std::move(offsets));
-    return std::make_unique<FastKangCho<T>>(pool);
+    return std::make_unique<GatherKangCho<T>>(pool);
 }
 
 class KangChoSolver final : public ImplicitSolver {

@@ -1,6 +1,6 @@
 #pragma once
-// The fast Kang & Cho step: the same linearized backward Euler system and the same Jacobi
-// iterations as the reference (system.cpp + jacobiSweep), computed without 3x3 blocks per spring
+// The Kang & Cho step in the gather layout, for any mesh: the same linearized backward Euler
+// system and the same Jacobi iterations as the reference (system.cpp + jacobiSweep), computed without 3x3 blocks per spring
 // and gathered per particle instead of scattered per spring:
 //  - a spring's Jacobian block is J = a I + b u u^T (eq. 16; eq. 17 clamps l0/L to 1), so a
 //    spring stores u, a, b and its force magnitude: 6 numbers instead of 9 + 3;
@@ -12,12 +12,12 @@
 #include <memory>
 #include <vector>
 
-#include "kangcho_layout.h"
+#include "kangcho/layout.h"
 
 namespace cloth {
 
 template <class T>
-class FastKangCho final : public KangChoLayout {
+class GatherKangCho final : public KangChoLayout {
 public:
     using KangChoLayout::KangChoLayout;
     void solve(const StepProblem& problem, int iterations, Points& dv, double* forcesMs) override;
@@ -40,7 +40,7 @@ private:
     std::vector<unsigned char> pinned_;
 };
 
-extern template class FastKangCho<float>;
-extern template class FastKangCho<double>;
+extern template class GatherKangCho<float>;
+extern template class GatherKangCho<double>;
 
 }  // namespace cloth

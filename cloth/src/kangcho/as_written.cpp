@@ -2,7 +2,7 @@
 // one step, then dv(0) and the Jacobi sweeps. docs/algorithm.md explains each equation and lists
 // what this library adds to the paper (pins, drag, implicit air). This is kangcho's
 // impl=reference, and its system is the one exact, cg and chebyshev solve (buildSystem); the fast
-// paths (stencil_kangcho.cpp, fast_kangcho.cpp) and multigrid compute the same numbers from the
+// paths (kangcho/stencil.cpp, kangcho/gather.cpp) and multigrid compute the same numbers from the
 // same kernels (kernels.h) in other layouts, and the tests compare them.
 
 #include "cloth/forces.h"

@@ -1,4 +1,4 @@
-#include "stencil_kangcho.h"
+#include "kangcho/stencil.h"
 
 #include <algorithm>
 #include <chrono>

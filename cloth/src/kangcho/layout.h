@@ -1,6 +1,6 @@
 #pragma once
-// The interface of kangcho's fast layouts (fast_kangcho.h: per-particle gather, any mesh;
-// stencil_kangcho.h: grids): dv(0) and `iterations` Jacobi sweeps of the paper's system, computed
+// The interface of kangcho's fast layouts (kangcho/gather.h: per-particle gather, any mesh;
+// kangcho/stencil.h: grids): dv(0) and `iterations` Jacobi sweeps of the paper's system, computed
 // in the layout's own data structures, in precision T, from the same kernels (kernels.h).
 
 #include <cstdint>

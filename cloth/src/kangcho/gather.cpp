@@ -1,4 +1,4 @@
-#include "fast_kangcho.h"
+#include "kangcho/gather.h"
 
 #include <chrono>
 #include <cmath>
@@ -8,7 +8,7 @@
 namespace cloth {
 
 template <class T>
-void FastKangCho<T>::prepare(const Model& model) {
+void GatherKangCho<T>::prepare(const Model& model) {
     modelId_ = model.id();
     n_ = model.particleCount();
     springs_ = model.springCount();
@@ -38,13 +38,13 @@ void FastKangCho<T>::prepare(const Model& model) {
 
 // Marks the pinned particles and stores their velocity changes.
 template <class T>
-void FastKangCho<T>::setPins(const State& state, const StepInput& input) {
+void GatherKangCho<T>::setPins(const State& state, const StepInput& input) {
     gatherPins(state, input, pinned_, pin_);
 }
 
 // Computes every spring's direction, Jacobian terms and force magnitude.
 template <class T>
-void FastKangCho<T>::computeSprings(const State& state, bool compressionRule) {
+void GatherKangCho<T>::computeSprings(const State& state, bool compressionRule) {
     const double* xs = state.x.data();
     // Springs: u, the Jacobian's a and b (eqs. 16, 17) and the force magnitude (eq. 15).
     pool_.run(springs_, [&](int begin, int end) {
@@ -59,7 +59,7 @@ void FastKangCho<T>::computeSprings(const State& state, bool compressionRule) {
 
 // Assembles every particle's right-hand side and inverse diagonal block, and the first guess.
 template <class T>
-void FastKangCho<T>::assembleParticles(const Environment& env, const State& state, const StepInput& input) {
+void GatherKangCho<T>::assembleParticles(const Environment& env, const State& state, const StepInput& input) {
     const T h = T(input.h), h2 = h * h, c = T(env.drag);
     const T g[3] = {T(env.gravity.x()), T(env.gravity.y()), T(env.gravity.z())};
     const double* vs = state.v.data();
@@ -117,7 +117,7 @@ void FastKangCho<T>::assembleParticles(const Environment& env, const State& stat
 
 // Runs the Jacobi iterations; the result ends up in dvA_.
 template <class T>
-void FastKangCho<T>::jacobiSweeps(T h2, int iterations) {
+void GatherKangCho<T>::jacobiSweeps(T h2, int iterations) {
     // Jacobi sweeps (eq. 11; one sweep is eq. 14): dv_i = W_ii^-1 (b_i + h^2 sum_{j free} J dv_j).
     for (int k = 0; k < iterations; ++k) {
         pool_.run(n_, [&](int begin, int end) {
@@ -148,7 +148,7 @@ void FastKangCho<T>::jacobiSweeps(T h2, int iterations) {
 }
 
 template <class T>
-void FastKangCho<T>::solve(const StepProblem& problem, int iterations, Points& dv, double* forcesMs) {
+void GatherKangCho<T>::solve(const StepProblem& problem, int iterations, Points& dv, double* forcesMs) {
     const auto& [model, env, state, input, compressionRule] = problem;
     const auto t0 = std::chrono::steady_clock::now();
     if (modelId_ != model.id()) prepare(model);
@@ -164,7 +164,7 @@ void FastKangCho<T>::solve(const StepProblem& problem, int iterations, Points& d
     for (std::size_t k = 0; k < dvA_.size(); ++k) out[k] = double(dvA_[k]);
 }
 
-template class FastKangCho<float>;
-template class FastKangCho<double>;
+template class GatherKangCho<float>;
+template class GatherKangCho<double>;
 
 }  // namespace cloth

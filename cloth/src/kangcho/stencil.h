@@ -1,7 +1,7 @@
 #pragma once
 // The Kang & Cho step for models whose springs fall into a few constant index offsets: every
 // grid does (right, down, two diagonals, right-2, down-2: six "families"). The system and the
-// iterates are the ones of FastKangCho (fast_kangcho.h) and of the assembled reference; only
+// iterates are the ones of GatherKangCho (kangcho/gather.h) and of the assembled reference; only
 // the data layout differs:
 //  - positions, velocities and every per-particle quantity are structure-of-arrays, padded with
 //    zeros on both sides by the largest offset, so no loop needs a bounds test;
@@ -17,7 +17,7 @@
 
 #include <vector>
 
-#include "kangcho_layout.h"
+#include "kangcho/layout.h"
 
 namespace cloth {
 
