@@ -10,10 +10,10 @@ using namespace engine;
 
 TEST(Profiler, SummaryPercentilesMatchNearestRank) {
     Profiler p;
-    const int a = p.addPhase("a");
+    p.enable(Phase::Render);
     for (int f = 1; f <= 200; ++f) {
         p.beginFrame();
-        p.add(a, f);  // 1 .. 200 ms
+        p.add(Phase::Render, f);  // 1 .. 200 ms
         p.endFrame();
     }
     const auto s = p.summary();
@@ -26,10 +26,10 @@ TEST(Profiler, SummaryPercentilesMatchNearestRank) {
 
 TEST(Profiler, CsvHasOneRowPerFrameAndZonesAddedLaterReadZeroBefore) {
     Profiler p;
-    const int a = p.addPhase("render");
+    p.enable(Phase::Render);
     for (int f = 0; f < 3; ++f) {
         p.beginFrame();
-        p.add(a, 1.5);
+        p.add(Phase::Render, 1.5);
         if (f == 2) {  // only the second level of zones becomes a column
             enterAndLeaveBulletZones(p);
         }
@@ -50,4 +50,29 @@ TEST(Profiler, CsvHasOneRowPerFrameAndZonesAddedLaterReadZeroBefore) {
         ++rows;
     }
     EXPECT_EQ(rows, 3);
+}
+
+// The columns are the enabled phases in the frame's order, whatever order a scene enables them
+// in; a phase the scene did not enable is neither timed nor a column; the last frame's profile
+// holds each phase's time and the frame's.
+TEST(Profiler, EnabledPhasesInFrameOrderAndAbsentOnesNotTimed) {
+    Profiler p;
+    p.enable(Phase::Write);
+    p.enable(Phase::Input);
+    p.enable(Phase::ClothSolve);
+    EXPECT_EQ(p.phases(), (std::vector<std::string>{"input", "cloth_solve", "write"}));
+    EXPECT_FALSE(p.enabled(Phase::Render));
+    p.beginFrame();
+    p.add(Phase::ClothSolve, 2.0);
+    p.add(Phase::Render, 5.0);  // absent: ignored
+    { Profiler::Scope scope(p, Phase::Collision); }
+    p.endFrame();
+    EXPECT_EQ(p.columns(), (std::vector<std::string>{"input", "cloth_solve", "write", "frame"}));
+    ASSERT_EQ(p.rows().at(0).size(), 4u);
+    EXPECT_EQ(p.rows()[0][1], 2.0);
+    EXPECT_EQ(p.lastFrame()[Phase::ClothSolve], 2.0);
+    EXPECT_EQ(p.lastFrame()[Phase::Render], 0.0);
+    EXPECT_EQ(p.lastFrame()[Phase::Collision], 0.0);
+    EXPECT_EQ(p.lastFrame().frame, p.rows()[0][3]);
+    EXPECT_STREQ(phaseName(Phase::ClothForces), "cloth_forces");
 }

@@ -161,8 +161,8 @@ TEST(RuntimeRender, TheOverlayIsInItsOwnPhaseAndOnlyInThePanelsCorner) {
     Runtime overlay(s, o);
     while (plain.frame() && overlay.frame()) {
     }
-    EXPECT_NE(overlay.profiler().phaseId("overlay"), -1);
-    EXPECT_EQ(plain.profiler().phaseId("overlay"), -1);
+    EXPECT_TRUE(overlay.profiler().enabled(Phase::Overlay));
+    EXPECT_FALSE(plain.profiler().enabled(Phase::Overlay));
     const auto& a = plain.pixels();
     const auto& b = overlay.pixels();
     ASSERT_EQ(a.size(), b.size());

@@ -81,10 +81,10 @@ TEST(Trace, ProfilerRecordsFramesPhasesAndEveryZoneLevelWithItsProfileTimes) {
     Profiler p;
     Trace trace;
     p.setTrace(&trace);
-    const int a = p.addPhase("bullet");
+    p.enable(Phase::Bullet);
     p.beginFrame();
     {
-        Profiler::Scope scope(p, a);
+        Profiler::Scope scope(p, Phase::Bullet);
         enterAndLeaveBulletZones(p);
     }
     p.endFrame();
@@ -113,9 +113,9 @@ TEST(Trace, AProfilerWithoutATraceRecordsNothingAndStillProfiles) {
     Trace trace;
     p.setTrace(&trace);
     p.setTrace(nullptr);
-    const int a = p.addPhase("render");
+    p.enable(Phase::Render);
     p.beginFrame();
-    { Profiler::Scope scope(p, a); }
+    { Profiler::Scope scope(p, Phase::Render); }
     p.endFrame();
     EXPECT_TRUE(trace.events().empty());
     EXPECT_EQ(p.frameCount(), 1u);

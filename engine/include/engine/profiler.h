@@ -1,12 +1,13 @@
 #pragma once
-// Frame profile: milliseconds per named phase per frame. A scene registers only the phases of
-// the subsystems it uses, so the profile shows exactly what its frame pays for. Bullet's own
-// profile zones can be routed in as extra columns ("bullet:<zone>"). Given a Trace, it also
-// records each frame, each timed phase and each Bullet zone (every level) as an event, with the
-// same clock readings as the profile.
+// Frame profile: milliseconds per phase per frame. The phases are a fixed list (Phase), as
+// Box2D's b2Profile names each stage of its step; a scene enables only the phases of the
+// subsystems it uses, so the profile shows exactly what its frame pays for, and a phase it does
+// not enable is not timed at all. Bullet's own profile zones can be routed in as extra columns
+// ("bullet:<zone>"). Given a Trace, it also records each frame, each timed phase and each Bullet
+// zone (every level) as an event, with the same clock readings as the profile.
 
+#include <array>
 #include <chrono>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -14,37 +15,70 @@
 
 namespace engine {
 
+// The frame's phases, in the order they run (and of the profile's columns).
+enum class Phase {
+    Input,        // the window's events, the commands, the actions                [vehicle]
+    Bullet,       // one Bullet tick per physics tick                               [vehicle]
+    Air,          // the air on the flag                                            [air]
+    ClothForces,  // the solver's forces, Jacobian blocks and right-hand side      [cloth]
+    ClothSolve,   // the solver's solve, integration and the cloth's constraints    [cloth]
+    Collision,    // the flag against the pole, the vehicle and the ground          [collision]
+    Render,       // the scene drawn                                                [render]
+    Readback,     // glFinish and the pixels read back                              [render]
+    Overlay,      // the panel drawn into the recorded frames                       [--overlay]
+    Panel,        // the panel drawn on screen only                                 [window]
+    Write,        // the frame handed to the PNG and video writers                  [recording]
+};
+inline constexpr int kPhaseCount = 11;
+const char* phaseName(Phase phase);  // "input", "bullet", "cloth_forces", ...
+
+// One frame's milliseconds in each phase (0 in a phase the scene does not enable) and in all.
+struct FrameProfile {
+    std::array<double, kPhaseCount> phase{};
+    double frame = 0;
+    double& operator[](Phase p) { return phase[std::size_t(p)]; }
+    double operator[](Phase p) const { return phase[std::size_t(p)]; }
+};
+
 class Profiler {
 public:
     using Clock = std::chrono::steady_clock;
 
-    // Registers a phase; returns its id. Phases keep their registration order.
-    int addPhase(const std::string& name);
-    int phaseId(const std::string& name) const;  // -1 when absent
-    const std::vector<std::string>& phases() const { return names_; }
+    // The scene has this phase: it is timed and has a column. Enable before the first frame.
+    void enable(Phase phase);
+    bool enabled(Phase phase) const { return enabled_[std::size_t(phase)]; }
+    // The enabled phases' names, in Phase order.
+    std::vector<std::string> phases() const;
 
     // Events go to trace from now on (null: none). The trace must outlive the recording.
     void setTrace(Trace* trace);
 
     void beginFrame();
-    void add(int phase, double ms) { current_[phase] += ms; }
+    void add(Phase phase, double ms) {
+        if (enabled(phase)) current_[phase] += ms;
+    }
     void endFrame();  // closes the row; "frame" is the wall time from beginFrame
+    // The last frame's profile (the panel shows it).
+    const FrameProfile& lastFrame() const { return last_; }
 
-    // RAII timer for one phase.
+    // RAII timer for one phase; nothing at all for a phase the scene does not enable.
     class Scope {
     public:
-        Scope(Profiler& p, int phase) : p_(p), phase_(phase), t0_(Clock::now()) {}
+        Scope(Profiler& p, Phase phase) : p_(p.enabled(phase) ? &p : nullptr), phase_(phase) {
+            if (p_) t0_ = Clock::now();
+        }
         ~Scope() {
+            if (!p_) return;
             const Clock::time_point t1 = Clock::now();
-            p_.add(phase_, ms(t1 - t0_));
-            if (p_.trace_) p_.tracePhase(phase_, t0_, t1);
+            p_->add(phase_, ms(t1 - t0_));
+            if (p_->trace_) p_->tracePhase(phase_, t0_, t1);
         }
         Scope(const Scope&) = delete;
         Scope& operator=(const Scope&) = delete;
 
     private:
-        Profiler& p_;
-        int phase_;
+        Profiler* p_;
+        Phase phase_;
         Clock::time_point t0_;
     };
     static double ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
@@ -58,7 +92,7 @@ public:
         double mean = 0, p50 = 0, p95 = 0, p99 = 0, max = 0;
     };
     std::size_t frameCount() const { return rows_.size(); }
-    // Column names: the phases, then "frame".
+    // Column names: the enabled phases, Bullet's zones, then "frame".
     std::vector<std::string> columns() const;
     std::vector<Stats> summary() const;
     const std::vector<std::vector<double>>& rows() const { return rows_; }
@@ -70,20 +104,24 @@ public:
     std::string summaryTable() const;
 
 private:
-    void tracePhase(int phase, Clock::time_point t0, Clock::time_point t1);
+    void tracePhase(Phase phase, Clock::time_point t0, Clock::time_point t1);
+    int zoneColumn(const char* name);
 
-    std::vector<std::string> names_;
-    std::vector<double> current_;
-    std::vector<std::vector<double>> rows_;
+    std::array<bool, kPhaseCount> enabled_{};
+    std::vector<Phase> columns_;             // the enabled phases, in Phase order
+    std::vector<std::string> zoneNames_;     // "bullet:<zone>", in the order first seen
+    FrameProfile current_, last_;
+    std::vector<double> currentZones_;
+    std::vector<std::vector<double>> rows_;  // the enabled phases, the zones, the frame
     Clock::time_point frameStart_;
     struct OpenZone {
-        int phase;
+        int column;  // in zoneNames_, or -1 (a level that is not a column)
         Clock::time_point t0;
         const char* name;
     };
     std::vector<OpenZone> zones_;
     Trace* trace_ = nullptr;
-    std::vector<int> traceNames_;  // each phase's name id in trace_ (-1: not asked for yet)
+    std::array<int, kPhaseCount> traceNames_{};  // each phase's name id in trace_
     int traceFrameName_ = -1;
 };
 

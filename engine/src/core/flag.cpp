@@ -131,8 +131,8 @@ cloth::Collider Flag::poleCollider(const RigidFrame& carrier) const {
 
 void Flag::setTrace(Trace* trace) {
     trace_ = trace;
-    if (trace) traceNames_ = {trace->nameId("air"), trace->nameId("cloth_forces"),
-                              trace->nameId("cloth_solve"), trace->nameId("collision"),
+    if (trace) traceNames_ = {trace->nameId(phaseName(Phase::Air)), trace->nameId(phaseName(Phase::ClothForces)),
+                              trace->nameId(phaseName(Phase::ClothSolve)), trace->nameId(phaseName(Phase::Collision)),
                               trace->nameId("cloth_step")};
     observeWorkers();
 }

@@ -10,78 +10,101 @@
 
 namespace engine {
 
-int Profiler::addPhase(const std::string& name) {
-    const int existing = phaseId(name);
-    if (existing >= 0) return existing;
-    names_.push_back(name);
-    current_.push_back(0);
-    return static_cast<int>(names_.size()) - 1;
+const char* phaseName(Phase phase) {
+    static const char* const names[kPhaseCount] = {"input",    "bullet",   "air",     "cloth_forces",
+                                                   "cloth_solve", "collision", "render", "readback",
+                                                   "overlay",  "panel",    "write"};
+    return names[std::size_t(phase)];
 }
 
-int Profiler::phaseId(const std::string& name) const {
-    const auto it = std::find(names_.begin(), names_.end(), name);
-    return it == names_.end() ? -1 : static_cast<int>(it - names_.begin());
+void Profiler::enable(Phase phase) {
+    if (enabled(phase)) return;
+    enabled_[std::size_t(phase)] = true;
+    columns_.clear();
+    for (int p = 0; p < kPhaseCount; ++p)
+        if (enabled_[std::size_t(p)]) columns_.push_back(Phase(p));
+}
+
+std::vector<std::string> Profiler::phases() const {
+    std::vector<std::string> names;
+    for (const Phase p : columns_) names.push_back(phaseName(p));
+    return names;
 }
 
 void Profiler::setTrace(Trace* trace) {
     trace_ = trace;
-    traceNames_.clear();
+    traceNames_.fill(-1);
     traceFrameName_ = trace ? trace->nameId("frame") : -1;
 }
 
-void Profiler::tracePhase(int phase, Clock::time_point t0, Clock::time_point t1) {
-    if (traceNames_.size() < names_.size()) traceNames_.resize(names_.size(), -1);
-    if (traceNames_[phase] < 0) traceNames_[phase] = trace_->nameId(names_[phase]);
-    trace_->complete(traceNames_[phase], Trace::Category::Phase, t0, t1);
+void Profiler::tracePhase(Phase phase, Clock::time_point t0, Clock::time_point t1) {
+    int& name = traceNames_[std::size_t(phase)];
+    if (name < 0) name = trace_->nameId(phaseName(phase));
+    trace_->complete(name, Trace::Category::Phase, t0, t1);
 }
 
 void Profiler::beginFrame() {
-    std::fill(current_.begin(), current_.end(), 0.0);
+    current_ = {};
+    std::fill(currentZones_.begin(), currentZones_.end(), 0.0);
     frameStart_ = Clock::now();
 }
 
 void Profiler::endFrame() {
     const Clock::time_point end = Clock::now();
-    std::vector<double> row = current_;
-    row.push_back(ms(end - frameStart_));
+    current_.frame = ms(end - frameStart_);
+    std::vector<double> row;
+    for (const Phase p : columns_) row.push_back(current_[p]);
+    row.insert(row.end(), currentZones_.begin(), currentZones_.end());
+    row.push_back(current_.frame);
     if (trace_)
         trace_->complete(traceFrameName_, Trace::Category::Frame, frameStart_, end, static_cast<int>(rows_.size()));
     rows_.push_back(std::move(row));
+    last_ = current_;
+}
+
+int Profiler::zoneColumn(const char* name) {
+    const std::string column = std::string("bullet:") + name;
+    const auto it = std::find(zoneNames_.begin(), zoneNames_.end(), column);
+    if (it != zoneNames_.end()) return static_cast<int>(it - zoneNames_.begin());
+    zoneNames_.push_back(column);
+    currentZones_.push_back(0);
+    return static_cast<int>(zoneNames_.size()) - 1;
 }
 
 // Only the second level of Bullet's zones is kept as columns: the first
 // (internalSingleStepSimulation) is the whole tick, which the "bullet" phase already times, and
 // deeper levels repeat their parents. A trace gets every level, named by Bullet.
 void Profiler::enterZone(const char* name) {
-    const int phase = zones_.size() == 1 ? addPhase(std::string("bullet:") + name) : -1;
-    zones_.push_back({phase, Clock::now(), name});
+    const int column = zones_.size() == 1 ? zoneColumn(name) : -1;
+    zones_.push_back({column, Clock::now(), name});
 }
 
 void Profiler::leaveZone() {
     if (zones_.empty()) return;
     const OpenZone& z = zones_.back();
-    if (z.phase >= 0 || trace_) {  // a deeper zone only ends an event of a trace
+    if (z.column >= 0 || trace_) {  // a deeper zone only ends an event of a trace
         const Clock::time_point end = Clock::now();
-        if (z.phase >= 0) add(z.phase, ms(end - z.t0));
+        if (z.column >= 0) currentZones_[std::size_t(z.column)] += ms(end - z.t0);
         if (trace_) trace_->complete(trace_->staticNameId(z.name), Trace::Category::Zone, z.t0, end);
     }
     zones_.pop_back();
 }
 
 std::vector<std::string> Profiler::columns() const {
-    std::vector<std::string> c = names_;
+    std::vector<std::string> c = phases();
+    c.insert(c.end(), zoneNames_.begin(), zoneNames_.end());
     c.push_back("frame");
     return c;
 }
 
 std::vector<Profiler::Stats> Profiler::summary() const {
-    const std::size_t cols = names_.size() + 1;
+    const std::size_t cols = columns_.size() + zoneNames_.size() + 1;
     std::vector<Stats> out(cols);
     if (rows_.empty()) return out;
     std::vector<double> v;
     for (std::size_t c = 0; c < cols; ++c) {
         v.clear();
-        // A phase registered mid-run (a Bullet zone) is zero in the rows before it.
+        // A Bullet zone first seen mid-run is zero in the rows before it.
         for (const auto& row : rows_) v.push_back(c == cols - 1 ? row.back() : (c < row.size() - 1 ? row[c] : 0.0));
         std::sort(v.begin(), v.end());
         auto pct = [&v](double p) {  // nearest rank
@@ -104,7 +127,7 @@ bool Profiler::writeCsv(const std::string& path, std::string* error) const {
     for (std::size_t f = 0; f < rows_.size(); ++f) {
         out << f;
         const auto& row = rows_[f];
-        for (std::size_t c = 0; c < names_.size(); ++c) {
+        for (std::size_t c = 0; c < columns_.size() + zoneNames_.size(); ++c) {
             std::snprintf(buf, sizeof buf, ",%.4f", c < row.size() - 1 ? row[c] : 0.0);
             out << buf;
         }

@@ -117,9 +117,15 @@ PanelState Runtime::Impl::panelState() const {
     s.physicsHz = clock->physicsHz();
     s.paused = paused;
     s.simTime = clock->simTime();
+    // The last frame's phases and its whole.
     s.phases = profiler.phases();
+    if (profiler.frameCount() > 0) {
+        const FrameProfile& last = profiler.lastFrame();
+        for (int p = 0; p < kPhaseCount; ++p)
+            if (profiler.enabled(Phase(p))) s.phaseMs.push_back(last[Phase(p)]);
+        s.phaseMs.push_back(last.frame);
+    }
     s.phases.push_back("frame");
-    s.phaseMs = lastRow;
     if (flag) {
         const cloth::Diagnostics d = cloth::measure(flag->model(), cloth::Environment{}, flag->state());
         s.p99Stretch = d.p99Stretch;

@@ -1,7 +1,8 @@
 #pragma once
 // The runtime's state: the subsystems a scene declares, the clock, the input, and the commands'
-// state (pause, single step, a requested scene). runtime.cpp builds and runs it; commands.cpp
-// applies the commands.
+// state (pause, single step, a requested scene). runtime_build.cpp builds it, frame_loop.cpp runs
+// it, commands.cpp applies the commands, outputs.cpp writes what a run leaves; run_scene.cpp is
+// the command-line driver around it.
 
 #include <chrono>
 #include <memory>
@@ -29,10 +30,6 @@ struct Runtime::Impl {
     RunOptions opt;
     std::unique_ptr<Trace> trace;  // --trace; outlives the profiler and the vehicle (its teardown has zones)
     Profiler profiler;
-    struct Phases {
-        int input = -1, bullet = -1, air = -1, clothForces = -1, clothSolve = -1,
-            collision = -1, render = -1, readback = -1, overlay = -1, write = -1;
-    } ph;
 
     std::optional<InputScript> script;  // the actions, and the events (commands) by frame
     std::optional<InputRecorder> recorder;
@@ -51,7 +48,6 @@ struct Runtime::Impl {
     bool paused = false, stepPending = false, restartSchedule = false;
     std::vector<std::string> scenes;  // the assets' scenes, for the panel
     std::string nextScene;      // the panel asked for this scene (or, restart, this one)
-    std::vector<double> lastRow;  // the profile's last row, for the panel
     SolverCounts lastCounts;      // the flag's counts at the last frame's end
     long long lastSteps = 0;
     std::optional<TickClock> clock;  // set by planFrames
@@ -67,16 +63,21 @@ struct Runtime::Impl {
     void applyCommands();
     void apply(const Command& command);
     PanelState panelState() const;
+    // The frame loop (frame_loop.cpp).
+    std::string stopBefore() const;
     void readInput();
+    void stepPhysics();
+    void renderAndRecord();
     void endFrame();
+    void pace();
     long long ticksThisFrame();
     void stepFlag(double h);
     void measurePinError();
 
-    // Construction, in this order.
+    // Construction, in this order (runtime_build.cpp).
     void applyOptions();
     void planFrames();
-    void addPhases();
+    void enablePhases();
     void buildVehicle();
     void buildFlag();
     void buildView();

@@ -337,11 +337,10 @@ void SceneView::Impl::drawPanel(const PanelState* state, double frameSeconds) {
 #endif
 }
 
-void SceneView::renderFrame(Profiler& profiler, int phRender, int phReadback, int phOverlay, const PanelState* panel,
-                            double frameSeconds) {
+void SceneView::renderFrame(Profiler& profiler, const PanelState* panel, double frameSeconds) {
     Impl& m = *impl_;
     {
-        Profiler::Scope scope(profiler, phRender);
+        Profiler::Scope scope(profiler, Phase::Render);
         m.context->makeCurrent();
         m.updateCamera();
         Lighting light;
@@ -350,19 +349,19 @@ void SceneView::renderFrame(Profiler& profiler, int phRender, int phReadback, in
         m.renderer->render(m.orbited(), light, m.drawList());
     }
     if (m.overlay) {  // the panel into the recorded frames
-        Profiler::Scope scope(profiler, phOverlay);
+        Profiler::Scope scope(profiler, Phase::Overlay);
         m.drawPanel(panel, frameSeconds);
     }
     {
-        Profiler::Scope scope(profiler, phReadback);
+        Profiler::Scope scope(profiler, Phase::Readback);
         // A live window without recording has no use for the pixels: skip the readback.
         if (m.readback || !m.context->isWindow()) m.renderer->readPixels(m.pixels);
     }
-    if (!m.overlay && m.context->isWindow() && phOverlay >= 0) {  // the panel on screen only
-        Profiler::Scope scope(profiler, phOverlay);
+    if (!m.overlay && m.context->isWindow() && profiler.enabled(Phase::Panel)) {  // the panel on screen only
+        Profiler::Scope scope(profiler, Phase::Panel);
         m.drawPanel(panel, frameSeconds);
     }
-    Profiler::Scope scope(profiler, phReadback);
+    Profiler::Scope scope(profiler, Phase::Readback);
     m.context->present();
 }
 

@@ -36,10 +36,9 @@ public:
     bool hasPanel() const;
 
     // Draws the frame and reads it back into pixels() (each timed in its phase). With a panel,
-    // `panel` is what it shows, timed in phOverlay: drawn after the readback in a window (the
-    // recorded frames stay the scene's), before it with --overlay.
-    void renderFrame(Profiler& profiler, int phRender, int phReadback, int phOverlay = -1,
-                     const PanelState* panel = nullptr, double frameSeconds = 0);
+    // `panel` is what it shows: drawn after the readback in a window (the recorded frames stay the
+    // scene's; Phase::Panel), before it with --overlay (Phase::Overlay).
+    void renderFrame(Profiler& profiler, const PanelState* panel = nullptr, double frameSeconds = 0);
     const std::vector<std::uint8_t>& pixels() const;  // RGBA, top-down
 
     // What the user asked for since the last call: the panel's commands and requests, and the

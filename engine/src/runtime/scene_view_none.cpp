@@ -17,7 +17,7 @@ bool SceneView::hasWindow() const { return false; }
 bool SceneView::windowClosed() const { return false; }
 Actions SceneView::pollActions() { return {}; }
 bool SceneView::hasPanel() const { return false; }
-void SceneView::renderFrame(Profiler&, int, int, int, const PanelState*, double) {}
+void SceneView::renderFrame(Profiler&, const PanelState*, double) {}
 PanelRequests SceneView::takeRequests() { return {}; }
 void SceneView::setOrbit(double, double, double) {}
 std::optional<std::array<float, 4>> SceneView::widgetRect(const std::string&) const { return std::nullopt; }
