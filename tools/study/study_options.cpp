@@ -1,0 +1,131 @@
+#include "study_options.h"
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "cloth/solver.h"
+
+namespace study {
+
+namespace {
+
+const char* const kUsage = R"(usage: cloth_study [options]
+
+The solver study: error against run time on a hanging flag and on a flag following the demo's
+vehicle path, a scan over stiffness and time step, and the demo's flag in six extreme cases.
+
+  --quick              a small grid (sizes 17 and 33, three stiffnesses and time steps, 0.5 s)
+  --out DIR            where the CSV files go (default out/study)
+  --scenes LIST        comma-separated subset of: hanging_flag, vehicle_path
+  --sizes LIST         comma-separated grid sides, e.g. 17,33,65,129 (overrides the size list)
+  --solvers LIST       semicolon-separated solver specs to run instead of the default set,
+                       e.g. "multigrid;multigrid:cycles=1;exact" (family = the name before ':')
+  --no-scan            skip the stiffness and time-step scan
+  --no-extremes        skip the extreme cases (extreme.csv)
+  --no-trajectories    no traj_error in extreme.csv (no run against each case's reference)
+  --extremes-only      only the extreme cases
+  --configs LIST       comma-separated subset of the extreme-case configurations (by name)
+  --cases LIST         comma-separated subset of the extreme cases (by name, e.g. spin_5radps)
+  --stiff-configs L    more configurations of the stiff flag: NAME=SPEC@HZ or NAME=SPEC@HZxSUBSTEPS,
+                       ';'-separated
+                       (e.g. "bdf2_90=newton:integrator=bdf2@90"); pick them with --configs
+  --extreme-sizes LIST flag sides for the extreme cases (default 33,65, --quick 33; the flag keeps
+                       its aspect)
+  --extreme-scene S    whose flag the extreme cases run (a scene name or a .json path; default
+                       flag_vehicle): its size, mass, stiffness, air, physics rate and, as
+                       demo_default, its solver
+  --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
+                       numbers; tools/study/merge_shards.py joins the parts)
+  --export-newton DIR  write the flag and pole motion of every k=1e4, h=1/240 configuration, and of
+                       every extreme case and size (--quick: the teleport), as JSON for
+                       tools/study/newton_study.py, then stop
+  --parallel           mark the timing columns as taken while other shards ran (timing=parallel)
+  --help               this text
+)";
+
+
+// A comma-separated list of grid sides in [lo, hi] into `out`; the error names the option and the
+// value, or is empty.
+std::string readSides(const std::string& option, const std::string& text, long lo, long hi, std::vector<int>& out) {
+    for (const std::string& v : split(text, ',')) {
+        char* end = nullptr;
+        const long n = std::strtol(v.c_str(), &end, 10);
+        if (*end != '\0' || n < lo || n > hi)
+            return option + ": '" + v + "' is not a side in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+        out.push_back(int(n));
+    }
+    return {};
+}
+
+// The option at argv[i] that takes a value (the value at argv[++i]); -1 to go on, else an exit code.
+int readValueOption(const std::string& a, const char* value, StudyOptions& o) {
+    if (a == "--export-newton") o.exportDir = value;
+    else if (a == "--configs") o.configFilter = split(value, ',');
+    else if (a == "--cases") o.caseFilter = split(value, ',');
+    else if (a == "--stiff-configs") o.extraStiff = split(value, ';');
+    else if (a == "--extreme-scene") o.extremeScenePath = value;
+    else if (a == "--out") o.out = value;
+    else if (a == "--shard") {
+        const std::string v = value;
+        if (std::sscanf(v.c_str(), "%d/%d", &o.shard, &o.shards) != 2 || o.shards < 1 || o.shards > 1000 || o.shard < 1 ||
+            o.shard > o.shards || v.find_first_not_of("0123456789/") != std::string::npos)
+            return usageError("--shard: '" + v + "' is not K/N with 1 <= K <= N <= 1000");
+    } else if (a == "--extreme-sizes") {
+        if (const std::string bad = readSides(a, value, 5, 257, o.extremeSizes); !bad.empty()) return usageError(bad);
+    } else if (a == "--scenes") {
+        o.sceneFilter = split(value, ',');
+        for (const std::string& sc : o.sceneFilter)
+            if (sc != "hanging_flag" && sc != "vehicle_path") return usageError("--scenes: unknown scene '" + sc + "'");
+    } else if (a == "--sizes") {
+        if (const std::string bad = readSides(a, value, 3, 513, o.sizeOverride); !bad.empty()) return usageError(bad);
+    } else if (a == "--solvers") {
+        o.solverSpecs = split(value, ';');
+        for (const std::string& spec : o.solverSpecs) {
+            cloth::SolverConfig c;
+            std::string error;
+            if (!cloth::parseSolverConfig(spec, c, &error)) return usageError("--solvers: " + error);
+        }
+    } else return usageError("unknown or incomplete option '" + a + "'");
+    return -1;
+}
+
+}  // namespace
+
+int usageError(const std::string& why) {
+    std::fprintf(stderr, "cloth_study: %s\n%s", why.c_str(), kUsage);
+    return 2;
+}
+
+int parseOptions(int argc, char** argv, StudyOptions& o) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--help" || a == "-h") {
+            std::fputs(kUsage, stdout);
+            std::fputs(("\n--solvers takes these (name[:key=value,...]):\n" + cloth::solverHelp()).c_str(), stdout);
+            return 0;
+        } else if (a == "--quick") o.quick = true;
+        else if (a == "--extremes-only") o.extremesOnly = true;
+        else if (a == "--no-scan") o.scan = false;
+        else if (a == "--no-extremes") o.doExtremes = false;
+        else if (a == "--no-trajectories") o.trajectories = false;
+        else if (a == "--parallel") o.parallel = true;
+        else if (i + 1 >= argc) return usageError("unknown or incomplete option '" + a + "'");
+        else if (const int code = readValueOption(a, argv[++i], o); code >= 0) return code;
+    }
+    return -1;
+}
+
+std::vector<std::string> split(const std::string& text, char sep) {
+    std::vector<std::string> parts;
+    std::size_t at = 0;
+    while (at <= text.size()) {
+        const std::size_t next = text.find(sep, at);
+        const std::string part = text.substr(at, next == std::string::npos ? std::string::npos : next - at);
+        if (!part.empty()) parts.push_back(part);
+        if (next == std::string::npos) break;
+        at = next + 1;
+    }
+    return parts;
+}
+
+}  // namespace study

@@ -1,0 +1,28 @@
+#pragma once
+// cloth_study's command line: the options of a run, read and checked before any work starts.
+
+#include <string>
+#include <vector>
+
+namespace study {
+
+struct StudyOptions {
+    bool quick = false, extremesOnly = false, scan = true, doExtremes = true, parallel = false, trajectories = true;
+    int shard = 1, shards = 1;
+    std::vector<int> extremeSizes;  // default: 33 and 65 (--quick: 33)
+    std::vector<int> sizeOverride;  // part 1's sizes instead of its list
+    std::string out = "out/study", exportDir, extremeScenePath = "flag_vehicle";
+    std::vector<std::string> sceneFilter, solverSpecs, configFilter, caseFilter, extraStiff;
+};
+
+// Reads the command line into `o`. Returns -1 to go on, else the exit code: 0 after --help, 2 for
+// a bad option (with the reason and the usage on stderr).
+int parseOptions(int argc, char** argv, StudyOptions& o);
+
+// Prints "cloth_study: why" and the usage on stderr; returns 2.
+int usageError(const std::string& why);
+
+// The non-empty parts of `text` between `sep`s.
+std::vector<std::string> split(const std::string& text, char sep);
+
+}  // namespace study
