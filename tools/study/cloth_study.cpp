@@ -6,7 +6,7 @@
 // Part 1 (solve_error.h, error_vs_runtime.csv): every solver on the same cloth against the
 // converged backward Euler step. Part 2 (front.h, extreme.csv): the demo's flag and the stiff
 // scene's flag in extreme cases, per configuration (configurations.h), against each flag's
-// fine-step reference. --export-newton writes the same flags and pole motions for NVIDIA
+// fine-step reference. --export-nvidia-newton writes the same flags and pole motions for NVIDIA
 // Newton's harness instead (nvidia_newton_export.h).
 
 #include <chrono>

@@ -17,7 +17,7 @@ namespace {
 using cloth::Points;
 using cloth::State;
 
-// What every Newton harness input holds (tools/study/newton_study.py reads it): the configuration's
+// What every NVIDIA Newton harness input holds (tools/study/nvidia_newton_study.py reads it): the configuration's
 // name, size, stiffness and step, gravity, the cloth (start positions, masses, springs, triangles)
 // and its pinned particles. Pin targets per step are appended with pinTargets().
 // Points (3 x n) as n triples.
@@ -27,7 +27,7 @@ nlohmann::json pointsJson(const Points& p) {
     return j;
 }
 
-nlohmann::json newtonInput(const std::string& name, int size, double k, double h, const cloth::Model& m,
+nlohmann::json harnessInput(const std::string& name, int size, double k, double h, const cloth::Model& m,
                            const Points& x, const std::vector<cloth::Pin>& pins) {
     nlohmann::json j;
     j["scene"] = name;
@@ -49,7 +49,7 @@ nlohmann::json pinTargets(const std::vector<cloth::Pin>& pins) {
     return targets;
 }
 
-void writeNewtonInput(const std::string& path, const nlohmann::json& j) {
+void writeHarnessInput(const std::string& path, const nlohmann::json& j) {
     std::ofstream(path + ".tmp") << j.dump() << "\n";
     std::filesystem::rename(path + ".tmp", path);
 }
@@ -66,18 +66,18 @@ nlohmann::json airCheck(const cloth::Model& m, const cloth::State& state, const 
     return {{"positions", pointsJson(state.x)}, {"velocities", pointsJson(state.v)}, {"force", pointsJson(f)}};
 }
 
-// One extreme case at one size, for the Newton harness: the demo's flag as engine::Flag builds it
+// One extreme case at one size, for the NVIDIA Newton harness: the demo's flag as engine::Flag builds it
 // (start positions and velocities, masses, springs, triangles, pins), every pin's target and the
 // carrier's velocity at the end of every 240 Hz tick, and the air and drag the flag feels (the
 // harness applies them as explicit external forces; it has no pole collision).
-void exportExtremeForNewton(const std::string& dir, const engine::SceneConfig& demo, const Extreme& x, int size) {
+void exportExtremeForNvidiaNewton(const std::string& dir, const engine::SceneConfig& demo, const Extreme& x, int size) {
     engine::SceneConfig s = extremeScene(demo, x, size);
     s.flag.solver = configOf("kangcho:iterations=1");  // only the pins' path is read from its ticks
     const engine::PoleMount mount = extremeMount(demo);
     engine::Flag flag(s, mount, x.carrier(0));
     const cloth::Model& m = flag.model();
     const double h = 1.0 / s.physicsHz;
-    nlohmann::json j = newtonInput(x.name, size, s.flag.stiffness.structural, h, m, flag.state().x, flag.pins());
+    nlohmann::json j = harnessInput(x.name, size, s.flag.stiffness.structural, h, m, flag.state().x, flag.pins());
     j["kind"] = "extreme";
     j["jump_at"] = x.jumpAt;
     j["drag"] = s.flag.drag;
@@ -98,21 +98,21 @@ void exportExtremeForNewton(const std::string& dir, const engine::SceneConfig& d
         if (k == checkAt) j["air_check"] = airCheck(m, flag.state(), flag.pins(), s);
     }
     j["steps"] = steps;
-    writeNewtonInput(dir + "/extreme_" + x.name + "_" + std::to_string(size) + ".json", j);
+    writeHarnessInput(dir + "/extreme_" + x.name + "_" + std::to_string(size) + ".json", j);
 }
 
-// The flag and the pole motion of one configuration, for the Newton harness
-// (tools/study/newton_study.py): the same particles, masses, springs, triangles and pins, and every
+// The flag and the pole motion of one configuration, for the NVIDIA Newton harness
+// (tools/study/nvidia_newton_study.py): the same particles, masses, springs, triangles and pins, and every
 // pin's target at the end of every step.
-void exportForNewton(const std::string& dir, const Scene& scene, int n, double k, double h, double duration) {
+void exportForNvidiaNewtonRun(const std::string& dir, const Scene& scene, int n, double k, double h, double duration) {
     const cloth::HangingFlag flag = studyFlag(n, k);
     const cloth::Model& m = flag.model;
     const State start = startState(m, scene);
     const int steps = int(std::lround(duration / h));
-    nlohmann::json j = newtonInput(scene.name, n, k, h, m, start.x, pinsAt(m, scene, 0));
+    nlohmann::json j = harnessInput(scene.name, n, k, h, m, start.x, pinsAt(m, scene, 0));
     j["steps"] = steps;
     for (int s = 0; s < steps; ++s) j["pin_positions"].push_back(pinTargets(pinsAt(m, scene, (s + 1) * h)));
-    writeNewtonInput(dir + "/" + scene.name + "_" + std::to_string(n) + ".json", j);
+    writeHarnessInput(dir + "/" + scene.name + "_" + std::to_string(n) + ".json", j);
 }
 
 
@@ -124,11 +124,11 @@ int exportForNvidiaNewton(const StudyOptions& o, const std::vector<SolveErrorCon
     std::filesystem::create_directories(o.exportDir);
     for (const SolveErrorConfig& c : configs)
         if (!o.extremesOnly && c.k == 1e4 && c.h == 1.0 / 240)
-            exportForNewton(o.exportDir, *c.scene, c.n, c.k, c.h, solveErrorDuration(o));
+            exportForNvidiaNewtonRun(o.exportDir, *c.scene, c.n, c.k, c.h, solveErrorDuration(o));
     if (o.doExtremes)  // --quick: the teleport only (the shortest case), to keep CI's run short
         for (const Extreme& x : cases)
             if (!o.quick || x.name == "teleport_1m")
-                for (const int size : sizes) exportExtremeForNewton(o.exportDir, demo, x, size);
+                for (const int size : sizes) exportExtremeForNvidiaNewton(o.exportDir, demo, x, size);
     std::fprintf(stderr, "flag and pole motion written to %s\n", o.exportDir.c_str());
     return 0;
 }

@@ -1,6 +1,6 @@
 #pragma once
 // The study's flags and pole motions as JSON for NVIDIA Newton's harness
-// (tools/study/newton_study.py, which has no link to this code): every part-1 configuration at
+// (tools/study/nvidia_newton_study.py, which has no link to this code): every part-1 configuration at
 // k = 1e4, h = 1/240 s, and every extreme case and size (--quick: the teleport).
 
 #include <string>

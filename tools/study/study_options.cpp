@@ -36,9 +36,10 @@ vehicle path, a scan over stiffness and time step, and the demo's flag in six ex
                        demo_default, its solver
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
                        numbers; tools/study/merge_shards.py joins the parts)
-  --export-newton DIR  write the flag and pole motion of every k=1e4, h=1/240 configuration, and of
-                       every extreme case and size (--quick: the teleport), as JSON for
-                       tools/study/newton_study.py, then stop
+  --export-nvidia-newton DIR
+                       write the flag and pole motion of every k=1e4, h=1/240 configuration, and of
+                       every extreme case and size (--quick: the teleport), as JSON for NVIDIA
+                       Newton's harness (tools/study/nvidia_newton_study.py), then stop
   --parallel           mark the timing columns as taken while other shards ran (timing=parallel)
   --help               this text
 )";
@@ -59,7 +60,7 @@ std::string readSides(const std::string& option, const std::string& text, long l
 
 // The option at argv[i] that takes a value (the value at argv[++i]); -1 to go on, else an exit code.
 int readValueOption(const std::string& a, const char* value, StudyOptions& o) {
-    if (a == "--export-newton") o.exportDir = value;
+    if (a == "--export-nvidia-newton") o.exportDir = value;
     else if (a == "--configs") o.configFilter = split(value, ',');
     else if (a == "--cases") o.caseFilter = split(value, ',');
     else if (a == "--stiff-configs") o.extraStiff = split(value, ';');
