@@ -1,5 +1,5 @@
 // Solvers against independent computations: a hand evaluation of eq. 14, the exact solve, the
-// theory of Jacobi convergence, pins, stability. (Determinism: test_physics.cpp, golden hashes.)
+// theory of Jacobi convergence, pins, stability. (Determinism: test_golden_hashes.cpp.)
 
 #include <gtest/gtest.h>
 

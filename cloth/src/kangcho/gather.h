@@ -1,7 +1,7 @@
 #pragma once
 // The Kang & Cho step in the gather layout, for any mesh: the same linearized backward Euler
-// system and the same Jacobi iterations as the reference (system.cpp + jacobiSweep), computed without 3x3 blocks per spring
-// and gathered per particle instead of scattered per spring:
+// system and the same Jacobi iterations as the reference (system.cpp + jacobiSweep), computed
+// without 3x3 blocks per spring and gathered per particle instead of scattered per spring:
 //  - a spring's Jacobian block is J = a I + b u u^T (eq. 16; eq. 17 clamps l0/L to 1), so a
 //    spring stores u, a, b and its force magnitude: 6 numbers instead of 9 + 3;
 //  - every particle sums over its own springs (CSR adjacency), so particles split across threads
