@@ -49,6 +49,26 @@ BulletCloth::~BulletCloth() = default;
 
 void BulletCloth::step(double h) { impl_->world.stepSimulation(btScalar(h), 0); }
 
+void BulletCloth::step(double h, const std::vector<cloth::Pin>& pins, const cloth::Points* external,
+                       cloth::State& state) {
+    btSoftBody& body = *impl_->body;
+    auto vec = [](const auto& v) { return btVector3(btScalar(v[0]), btScalar(v[1]), btScalar(v[2])); };
+    for (int i = 0; i < body.m_nodes.size(); ++i) {
+        btSoftBody::Node& n = body.m_nodes[i];
+        n.m_x = n.m_q = vec(state.x.col(i));
+        n.m_v = vec(state.v.col(i));
+        if (external && n.m_im > 0) body.addForce(vec(external->col(i)), i);
+    }
+    for (const cloth::Pin& p : pins) {
+        btSoftBody::Node& n = body.m_nodes[int(p.particle)];
+        n.m_x = n.m_q = vec(p.x);
+        n.m_v = vec(p.v);
+    }
+    step(h);
+    for (int i = 0; i < body.m_nodes.size(); ++i)
+        for (int a = 0; a < 3; ++a) state.x(a, i) = body.m_nodes[i].m_x[a], state.v(a, i) = body.m_nodes[i].m_v[a];
+}
+
 void BulletCloth::positions(cloth::Points& x) const {
     const auto& nodes = impl_->body->m_nodes;
     x.resize(3, nodes.size());

@@ -19,6 +19,10 @@ public:
     ~BulletCloth();
     void step(double h);
     void positions(cloth::Points& x) const;
+    // One step of h from `state` (its positions and velocities become Bullet's nodes'): the pinned
+    // particles moved to their targets with their velocities (kinematic), `external` (per
+    // particle, or null) added as a force on the free ones; Bullet's result back into `state`.
+    void step(double h, const std::vector<cloth::Pin>& pins, const cloth::Points* external, cloth::State& state);
 
 private:
     struct Impl;

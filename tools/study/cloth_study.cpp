@@ -4,9 +4,9 @@
 //   cloth_study --help                     (every option: subsets of scenes, sizes and solvers)
 //
 // Part 1 (solve_error.h, error_vs_runtime.csv): every solver on the same cloth against the
-// converged backward Euler step. Part 2 (front.h, extreme.csv): the demo's flag and the stiff
-// scene's flag in extreme cases, per configuration (configurations.h), against each flag's
-// fine-step reference. --export-nvidia-newton writes the same flags and pole motions for NVIDIA
+// converged backward Euler step. The front (front.h, front.csv): the demo's flag and the stiff
+// scene's flag on the demo's drive and in extreme cases, per configuration (configurations.h),
+// against each flag's fine-step reference. --export-nvidia-newton writes the same flags and pole motions for NVIDIA
 // Newton's harness instead (nvidia_newton_export.h).
 
 #include <chrono>
@@ -14,7 +14,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "bullet_kind.h"
 #include "configurations.h"
+#include "drive_case.h"
 #include "extreme_cases.h"
 #include "front.h"
 #include "nvidia_newton_export.h"
@@ -29,10 +31,10 @@ using Clock = std::chrono::steady_clock;
 
 // shard.json: which part of the work this run holds and how many rows the whole run has, so that
 // merge_shards.py can tell a complete set of shards from an incomplete one.
-void writeShardInfo(const StudyOptions& o, long configRows, long extremeRows) {
+void writeShardInfo(const StudyOptions& o, long configRows, long frontRows) {
     std::ofstream f(o.out + "/shard.json");
     f << "{\"shard\": " << o.shard << ", \"of\": " << o.shards << ", \"rows\": {\"error_vs_runtime.csv\": " << configRows
-      << ", \"extreme.csv\": " << extremeRows << "}}\n";
+      << ", \"front.csv\": " << frontRows << "}}\n";
 }
 
 // Keeps the items of `all` named in `names` (none: all), in that order; false with the first
@@ -61,59 +63,81 @@ bool loadSceneNamed(const std::string& name, engine::SceneConfig& out, std::stri
     }
 }
 
-// What the extreme cases run: the two flags' scenes, the configurations, the cases and sizes.
-struct ExtremeWork {
-    engine::SceneConfig demo, stiff;
+// What the front runs: the two flags' scenes, the configurations, the flags, paths and sizes.
+struct FrontWork {
+    Flags flags;
     std::vector<Configuration> configs;
-    std::vector<Extreme> cases = extremes();
+    std::vector<FlagKind> flagKinds = {FlagKind::Demo, FlagKind::Stiff};
+    std::vector<Extreme> paths;
     std::vector<int> sizes;
 };
 
+struct Named {
+    std::string name;
+    FlagKind kind;
+};
+
+// The flags --flags names, in that order; false with the first unknown name.
+bool chooseFlags(const std::vector<std::string>& names, std::vector<FlagKind>& out, std::string& unknown) {
+    std::vector<Named> all = {{"demo", FlagKind::Demo}, {"stiff", FlagKind::Stiff}};
+    if (!chooseByName(all, names, unknown)) return false;
+    out.clear();
+    for (const Named& n : all) out.push_back(n.kind);
+    return true;
+}
+
+// The paths: the demo's drive, then the extreme cases (--quick: the drive, the 10 g stop and the
+// gale).
+std::vector<Extreme> pathsOf(const StudyOptions& o, const engine::SceneConfig& demo) {
+    std::vector<Extreme> paths = {driveCase(demo)};
+    for (const Extreme& x : extremes()) paths.push_back(x);
+    if (o.quick && o.pathFilter.empty())
+        std::erase_if(paths, [](const Extreme& x) { return x.name != "drive" && x.name != "stop_10g" && x.name != "gale_40mps"; });
+    return paths;
+}
+
 // Reads the scenes and chooses the work (validated before any work starts); -1 to go on, else the
 // exit code.
-int planExtremes(const StudyOptions& o, ExtremeWork& w) {
+int planFront(const StudyOptions& o, FrontWork& w) {
     std::string why;
-    if (!loadSceneNamed(o.extremeScenePath, w.demo, why)) return usageError("--extreme-scene: " + why);
-    // The stiff scene's flag, for the stiff_* configurations: the same cases with a flag ten
-    // times stiffer.
-    if (!loadSceneNamed("flag_vehicle_stiff", w.stiff, why)) {  // an installed tree missing it, or a bad edit
-        std::fprintf(stderr, "cloth_study: the stiff_* configurations' scene: %s\n", why.c_str());
+    if (!loadSceneNamed(o.demoScenePath, w.flags.demo, why)) return usageError("--demo-scene: " + why);
+    if (!loadSceneNamed("flag_vehicle_stiff", w.flags.stiff, why)) {  // an installed tree missing it, or a bad edit
+        std::fprintf(stderr, "cloth_study: the stiff flag's scene: %s\n", why.c_str());
         return 1;
     }
-    w.configs = configurations(o, w.demo, w.stiff, &why);
+    w.configs = configurations(o, &why);
     if (w.configs.empty()) return usageError(why);
     std::string unknown;
     if (!chooseByName(w.configs, o.configFilter, unknown)) return usageError("--configs: unknown configuration '" + unknown + "'");
-    if (!chooseByName(w.cases, o.caseFilter, unknown)) return usageError("--cases: unknown extreme case '" + unknown + "'");
-    w.sizes = !o.extremeSizes.empty() ? o.extremeSizes : o.quick ? std::vector<int>{33} : std::vector<int>{33, 65};
+    if (!chooseFlags(o.flagFilter, w.flagKinds, unknown)) return usageError("--flags: unknown flag '" + unknown + "'");
+    w.paths = pathsOf(o, w.flags.demo);
+    if (!chooseByName(w.paths, o.pathFilter, unknown)) return usageError("--paths: unknown path '" + unknown + "'");
+    w.sizes = !o.frontSizes.empty() ? o.frontSizes : o.quick ? std::vector<int>{33} : std::vector<int>{33, 65};
     return -1;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    registerBulletSoftBody();  // before the options: --add-configs and --help may name it
     StudyOptions o;
     if (const int code = parseOptions(argc, argv, o); code >= 0) return code;
-    ExtremeWork w;
-    if (const int code = planExtremes(o, w); code >= 0) return code;
+    FrontWork w;
+    if (const int code = planFront(o, w); code >= 0) return code;
     std::filesystem::create_directories(o.out);
-    if (o.doExtremes && !extremeCasesDriveTheFlag(w.demo, o.exportDir.empty() ? o.out + "/extreme_cases.csv" : "")) return 1;
+    if (o.front && !pathsDriveTheFlag(w.flags.demo, w.paths, o.exportDir.empty() ? o.out + "/extreme_cases.csv" : ""))
+        return 1;
     const auto t0 = Clock::now();
     const SolveErrorScenes scenes;
     std::vector<SolveErrorConfig> configs = solveErrorConfigs(o, scenes);
-    if (!o.exportDir.empty()) return exportForNvidiaNewton(o, configs, w.demo, w.cases, w.sizes);
-    if (o.extremesOnly) configs.clear();
+    if (!o.exportDir.empty()) return exportForNvidiaNewton(o, configs, w.flags.demo, w.paths, w.sizes);
+    if (o.frontOnly) configs.clear();
     WorkItems work{o.shard, o.shards};
     const long configRows = runSolveError(o, configs, work);
-    const double seconds = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); }();
-    if (!o.doExtremes) {
-        writeShardInfo(o, configRows, 0);
-        std::fprintf(stderr, "\nstudy done in %.0f s: %s/error_vs_runtime.csv\n", seconds, o.out.c_str());
-        return 0;
-    }
-    const long extremeRows = runExtremes(o, w.demo, w.stiff, w.cases, w.sizes, w.configs, work);
-    writeShardInfo(o, configRows, extremeRows);
-    std::fprintf(stderr, "\nstudy done in %.0f s: %s/error_vs_runtime.csv, %s/extreme.csv\n",
-                 std::chrono::duration<double>(Clock::now() - t0).count(), o.out.c_str(), o.out.c_str());
+    const long frontRows = o.front ? runFront(o, w.flags, w.flagKinds, w.paths, w.sizes, w.configs, work) : 0;
+    writeShardInfo(o, configRows, frontRows);
+    std::fprintf(stderr, "\nstudy done in %.0f s: %s/error_vs_runtime.csv%s\n",
+                 std::chrono::duration<double>(Clock::now() - t0).count(), o.out.c_str(),
+                 o.front ? (", " + o.out + "/front.csv").c_str() : "");
     return 0;
 }

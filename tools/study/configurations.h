@@ -1,8 +1,11 @@
 #pragma once
-// The configurations of the extreme cases (front.h): each a solver with its constraints on one of
-// the two flags (the demo's, the stiff scene's) at a physics rate, or that flag's fine-step
-// reference; a table with named fields.
+// The front's configurations (front.h): what a user could pick for a flag, each a solver with
+// its constraints at a physics rate, or the flag's fine-step reference; a table with named fields.
+// A configuration runs on both flags (the demo's soft flag, the stiff scene's) unless it says
+// otherwise; on each it has that flag's model: its springs, mass and air, and its constraints
+// unless the configuration drops them.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,21 +14,27 @@
 
 namespace study {
 
+enum class FlagKind { Demo, Stiff };
+const char* flagName(FlagKind flag);  // "demo", "stiff"
+
 struct Configuration {
     std::string name = {};
-    std::string solver = {};       // a solver spec ("" for a reference)
-    std::string constraints = {};  // the cloth's constraints, "key=value,..." ("" for none)
-    int substeps = 1;         // solver steps per physics tick
-    int implicitAir = -1;     // -1: as the scene says, else 0 / 1
-    bool stiff = false;       // the stiff scene's flag, else the demo's
-    int hz = 0;               // physics rate (0: the scene's)
+    std::string solver = {};  // a solver spec ("" for a reference, or the shipped scene's)
+    // The cloth's constraints, "key=value,..."; unset: the flag's own (its model); "": none.
+    std::optional<std::string> constraints = {};
+    int substeps = 1;         // solver steps per physics tick (the air and collisions at each)
+    int implicitAir = -1;     // -1: as the flag's scene says, else 0 / 1
+    int hz = 240;             // physics rate
     int referenceFactor = 0;  // > 0: the flag's fine-step reference, its substeps times this
+    bool springsOnly = false; // a reference: the springs alone, without the flag's constraints
+    bool shipped = false;     // the flag's scene as it ships: its solver, constraints, substeps, rate
+    std::vector<FlagKind> flags = {FlagKind::Demo, FlagKind::Stiff};
+
+    bool runsOn(FlagKind flag) const;
 };
 
-// The study's configurations (--quick: the demo's flag's few), then --stiff-configs'; the demo's
-// scene (--extreme-scene) gives demo_default, the stiff scene stiff_default. An error (for a bad
-// --stiff-configs item) empties the list and sets *error.
-std::vector<Configuration> configurations(const StudyOptions& o, const engine::SceneConfig& demo,
-                                          const engine::SceneConfig& stiff, std::string* error);
+// The study's configurations (--quick: a few), then --add-configs'. An error (for a bad
+// --add-configs item) empties the list and sets *error.
+std::vector<Configuration> configurations(const StudyOptions& o, std::string* error);
 
 }  // namespace study

@@ -31,7 +31,7 @@ void addSpeedCases(std::vector<Extreme>& e) {
                      c.position = Vec3(0, 0, x);
                      c.linearVelocity = Vec3(0, 0, v);
                      return c;
-                 }});
+                 }, 1, 0, -1, true});
     e.push_back({"stop_10g", 3, [](double t) {  // cruise at 30 m/s, stop at 10 g at t = 1.5 s
                      RigidFrame c;
                      const double a = 98.1, t0 = 1.5, stopT = 30 / a;
@@ -69,7 +69,7 @@ std::vector<Extreme> extremes() {
                      c.linearVelocity = Vec3(0, 0, 20);
                      return c;
                  }, 0.01});
-    e.push_back({"gale_40mps", 3, [](double) { return RigidFrame{}; }, 1, 40});
+    e.push_back({"gale_40mps", 3, [](double) { return RigidFrame{}; }, 1, 40, -1, true});
     return e;
 }
 

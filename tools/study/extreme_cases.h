@@ -21,6 +21,7 @@ struct Extreme {
     std::function<engine::RigidFrame(double)> carrier;  // pose and velocity at time t
     double massScale = 1, wind = 0;
     double jumpAt = -1;  // a discontinuity of the pole (teleport): peak_stretch leaves out 0.25 s after it
+    bool flutter = false;  // the air keeps the flag fluttering to the end: its energy is judged too
 };
 
 // The spin's vertical axis passes through this point of the carrier frame (the pole's base is
@@ -35,7 +36,7 @@ const Eigen::Vector3d kSpinAxisPoint(0, 0, 1.6);
 engine::RigidFrame turnedAbout(const Eigen::Vector3d& axisPoint, double angle, double rate);
 
 // The six cases, in the study's order: speed_50mps, stop_10g, spin_5radps, teleport_1m,
-// light_particles, gale_40mps.
+// light_particles, gale_40mps (the first and the last flutter).
 std::vector<Extreme> extremes();
 
 // The demo's flag in case x at another resolution: same size, mass and stiffness, same aspect;

@@ -3,97 +3,141 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <map>
+#include <optional>
 
-#include "extreme_runs.h"
+#include "bounds.h"
 #include "specs.h"
 
 namespace study {
 
 namespace {
 
-// The reference's substeps per tick at 33 per side (extreme_runs.h scales them with the size and
-// the mass): the demo's soft flag, and the stiff flag (k = 1e4).
+// The reference's substeps per 240 Hz tick at 33 per side (extreme_runs.h scales them with the
+// size and the mass): the demo's soft flag, and the stiff flag (k = 1e4).
 constexpr int kDemoReferenceSubsteps = 24, kStiffReferenceSubsteps = 160;
 
-// The extreme cases' rows: each case x size x configuration, the configurations judged against
-// their flag's reference (computed once per case, size and flag).
-class ExtremeStudy {
+const char* const kHeader =
+    "row,flag,path,size,config,solver,constraints,physics_hz,substeps,stable,failures,ms_per_tick,ms_per_frame,"
+    "timing,traj_error,p99_stretch,peak_stretch,max_stretch,late_max_stretch,ke_patch_late,ref_p99_stretch,"
+    "ref_peak_stretch,ref_ke_patch_late,energy_ratio,misses,iterations_mean,iterations_max,ke_mean,ke_late,"
+    "ke_patch4_late,ke_patch16_late,ke_windows,max_speed\n";
+
+// A CSV line built field by field (numbers with 4 significant digits, as the study prints them).
+class Line {
 public:
-    // trajectories: whether the configurations get traj_error (each a run against the reference).
-    ExtremeStudy(const engine::SceneConfig& demo, const engine::SceneConfig& stiff, bool trajectories)
-        : demo_(demo), stiff_(stiff), trajectories_(trajectories) {}
-    // The patch energy columns name kPatchCounts in order.
-    static_assert(kPatchCounts == std::array<int, 3>{8, 4, 16});
-    static const char* header() {
-        return "row,case,size,config,stable,failures,ms_per_tick,timing,max_stretch,peak_stretch,p99_stretch,"
-               "late_max_stretch,max_speed,physics_hz,ke_mean,ke_late,ke_windows,traj_error,iterations_mean,"
-               "iterations_max,ke_patch_late,ke_patch4_late,ke_patch16_late\n";
+    Line& text(const std::string& s) { return add(s); }
+    Line& quoted(const std::string& s) { return add("\"" + s + "\""); }
+    Line& integer(long v) { return add(std::to_string(v)); }
+    Line& number(double v) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.4g", v);
+        return add(b);
     }
-    std::string row(long index, const Extreme& x, int size, const Configuration& v, const char* timing) {
-        const engine::SceneConfig s = sceneOf(x, size, v);
-        const engine::PoleMount mount = extremeMount(demo_);
-        const bool needsReference = v.referenceFactor == 1 || trajectories_;
-        const ExtremeRun* ref = needsReference ? &reference(x, size, v.stiff) : nullptr;
-        ExtremeRun own;
-        const ExtremeRun& r = v.referenceFactor == 1 ? *ref : (own = runExtreme(s, mount, x, false));
-        const double traj = v.referenceFactor == 1 ? 0.0
-                            : r.stable && ref ? horizonError(s, mount, x, ref->states, hOf(*ref, x))
-                                              : NAN;
-        std::string windows;
-        for (double e : r.energyWindows) {
-            if (!windows.empty()) windows += ';';
-            windows += fmt(e);
-        }
-        char line[700];
-        std::snprintf(line, sizeof line, "%ld,%s,%d,%s,%d,%d,%.4g,%s,%.4g,%.4g,%.4g,%.4g,%.4g,%g,%.4g,%.4g,%s,%.4g,%.4g,%d,%.4g,%.4g,%.4g\n",
-                      index, x.name.c_str(), size, v.name.c_str(), r.stable ? 1 : 0, r.failures, r.msPerTick, timing,
-                      r.maxStretch, r.peakStretch, r.p99Stretch, r.lateStretch, r.maxSpeed, double(s.physicsHz), r.energyMean,
-                      r.energyLate, windows.c_str(), traj, r.iterationsMean, r.iterationsMax, r.patchEnergyLate[0],
-                      r.patchEnergyLate[1], r.patchEnergyLate[2]);
-        return line;
+    std::string str() const { return line_ + "\n"; }
+
+private:
+    Line& add(const std::string& field) {
+        if (!first_) line_ += ',';
+        line_ += field;
+        first_ = false;
+        return *this;
+    }
+    std::string line_;
+    bool first_ = true;
+};
+
+std::string windowsOf(const ExtremeRun& r) {
+    std::string out;
+    char b[32];
+    for (double e : r.energyWindows) {
+        std::snprintf(b, sizeof b, "%.4g", e);
+        if (!out.empty()) out += ';';
+        out += b;
+    }
+    return out;
+}
+
+// One group of rows: a path, a size and a flag, with that flag's reference computed once.
+class FrontGroup {
+public:
+    FrontGroup(const Flags& flags, const Extreme& x, int size, FlagKind flag, const StudyOptions& o)
+        : flags_(flags), x_(x), size_(size), flag_(flag), trajectories_(o.trajectories), references_(o.references) {}
+
+    std::string row(long index, const Configuration& c, const char* timing) {
+        const engine::SceneConfig s = sceneOf(c);
+        const bool isReference = c.referenceFactor == 1 && !c.springsOnly;
+        const ExtremeRun none = noReference();
+        const ExtremeRun& ref = references_ || isReference ? reference() : none;
+        std::optional<ExtremeRun> own;
+        if (!isReference) own = runExtreme(s, extremeMount(flags_.demo), x_, false);
+        const ExtremeRun& r = isReference ? ref : *own;
+        const double traj = isReference ? 0.0 : trajectories_ && r.stable ? trajectoryError(s) : NAN;
+        return format(index, c, s, r, ref, traj, timing);
     }
 
 private:
-    static std::string fmt(double v) {
-        char b[32];
-        std::snprintf(b, sizeof b, "%.4g", v);
-        return b;
-    }
-    static double hOf(const ExtremeRun& ref, const Extreme& x) { return x.duration / double(ref.states.size() - 1); }
-    engine::SceneConfig sceneOf(const Extreme& x, int size, const Configuration& v) const {
-        engine::SceneConfig s = extremeScene(v.stiff ? stiff_ : demo_, x, size);
-        if (v.referenceFactor > 0) {
-            const int base = v.stiff ? kStiffReferenceSubsteps : kDemoReferenceSubsteps;
-            return referenceScene(s, v.referenceFactor * referenceSubsteps(base, size, x));
+    engine::SceneConfig sceneOf(const Configuration& c) const {
+        const engine::SceneConfig& flag = flags_.of(flag_);
+        engine::SceneConfig s = extremeScene(flag, x_, size_);
+        if (c.shipped) return s;
+        if (c.referenceFactor > 0) {
+            const int base = flag_ == FlagKind::Demo ? kDemoReferenceSubsteps : kStiffReferenceSubsteps;
+            return referenceScene(s, c.referenceFactor * referenceSubsteps(base, size_, x_), c.springsOnly);
         }
-        s.flag.solver = configOf(v.solver);
-        s.flag.constraints = constraintsOf(v.constraints);
-        s.flag.substeps = v.substeps;
-        if (v.implicitAir >= 0) s.flag.implicitAir = v.implicitAir == 1;
-        if (v.hz > 0) s.physicsHz = v.hz;
+        s.flag.solver = configOf(c.solver);
+        if (c.constraints) s.flag.constraints = constraintsOf(*c.constraints);
+        s.flag.substeps = c.substeps;
+        if (c.implicitAir >= 0) s.flag.implicitAir = c.implicitAir == 1;
+        s.physicsHz = c.hz;
         return s;
     }
-    const ExtremeRun& reference(const Extreme& x, int size, bool stiff) {
-        const std::string key = x.name + "/" + std::to_string(size) + (stiff ? "/stiff" : "/demo");
-        auto it = references_.find(key);
-        if (it == references_.end()) {
-            const Configuration ref{.name = "reference", .stiff = stiff, .referenceFactor = 1};
-            it = references_.emplace(key, runExtreme(sceneOf(x, size, ref), extremeMount(demo_), x, true)).first;
-        }
-        return it->second;
-    }
-    const engine::SceneConfig& demo_;
-    const engine::SceneConfig& stiff_;
-    bool trajectories_;
-    std::map<std::string, ExtremeRun> references_;
-};
 
+    // Without references: NaN figures, so every bound reads as missed; the misses column is then
+    // left empty (format).
+    static ExtremeRun noReference() {
+        ExtremeRun r;
+        r.p99Stretch = r.peakStretch = NAN;
+        r.patchEnergyLate.fill(NAN);
+        return r;
+    }
+
+    const ExtremeRun& reference() {
+        if (!reference_) reference_ = runExtreme(sceneOf({.referenceFactor = 1}), extremeMount(flags_.demo), x_, trajectories_);
+        return *reference_;
+    }
+
+    double trajectoryError(const engine::SceneConfig& s) {
+        const ExtremeRun& ref = reference();
+        return horizonError(s, extremeMount(flags_.demo), x_, ref.states, x_.duration / double(ref.states.size() - 1));
+    }
+
+    std::string format(long index, const Configuration& c, const engine::SceneConfig& s, const ExtremeRun& r,
+                       const ExtremeRun& ref, double traj, const char* timing) const {
+        Line l;
+        l.integer(index).text(flagName(flag_)).text(x_.name).integer(size_).text(c.name);
+        l.quoted(c.referenceFactor > 0 ? "reference" : s.flag.solver.describe()).quoted(s.flag.constraints.describe());
+        l.integer(s.physicsHz).integer(s.flag.substeps).integer(r.stable ? 1 : 0).integer(r.failures);
+        l.number(r.msPerTick).number(r.msPerTick * s.physicsHz / 60).text(timing).number(traj);
+        l.number(r.p99Stretch).number(r.peakStretch).number(r.maxStretch).number(r.lateStretch).number(r.patchEnergyLate[0]);
+        l.number(ref.p99Stretch).number(ref.peakStretch).number(ref.patchEnergyLate[0]);
+        l.number(r.patchEnergyLate[0] / ref.patchEnergyLate[0]).text(references_ ? missedBounds(r, ref, x_) : "");
+        l.number(r.iterationsMean).integer(r.iterationsMax).number(r.energyMean).number(r.energyLate);
+        l.number(r.patchEnergyLate[1]).number(r.patchEnergyLate[2]).text(windowsOf(r)).number(r.maxSpeed);
+        return l.str();
+    }
+
+    const Flags& flags_;
+    const Extreme& x_;
+    int size_;
+    FlagKind flag_;
+    bool trajectories_, references_;
+    std::optional<ExtremeRun> reference_;
+};
 
 }  // namespace
 
-bool extremeCasesDriveTheFlag(const engine::SceneConfig& demo, const std::string& csv) {
-    const std::vector<CaseMotion> motions = caseMotions(demo, extremes());
+bool pathsDriveTheFlag(const engine::SceneConfig& demo, const std::vector<Extreme>& paths, const std::string& csv) {
+    const std::vector<CaseMotion> motions = caseMotions(demo, paths);
     if (!csv.empty()) {
         std::ofstream f(csv);
         f << "case,wind,pin_speed_max,pin_accel_max\n";
@@ -108,23 +152,22 @@ bool extremeCasesDriveTheFlag(const engine::SceneConfig& demo, const std::string
     return idle.empty();
 }
 
-
-long runExtremes(const StudyOptions& o, const engine::SceneConfig& demo, const engine::SceneConfig& stiff,
-                 const std::vector<Extreme>& cases, const std::vector<int>& sizes,
-                 const std::vector<Configuration>& configs, WorkItems& work) {
-    std::ofstream ext(o.out + "/extreme.csv");
-    // peak_stretch: max_stretch without the 0.25 s after a jump of the pole (teleport);
-    // p99_stretch: the largest per-tick 99th percentile; late_max_stretch: the last second;
-    // ke_*: kinetic energy in the carrier's frame; traj_error: against the flag's reference.
-    ext << ExtremeStudy::header();
-    ExtremeStudy study(demo, stiff, o.trajectories);
+long runFront(const StudyOptions& o, const Flags& flags, const std::vector<FlagKind>& flagKinds,
+              const std::vector<Extreme>& paths, const std::vector<int>& sizes,
+              const std::vector<Configuration>& configs, WorkItems& work) {
+    std::ofstream csv(o.out + "/front.csv");
+    csv << kHeader;
     const char* timing = o.parallel ? "parallel" : "serial";
     long row = -1;
-    for (const Extreme& x : cases)
+    for (const Extreme& x : paths)
         for (const int size : sizes)
-            for (const Configuration& v : configs) {
-                ++row;
-                if (work.mine()) ext << study.row(row, x, size, v, timing) << std::flush;
+            for (const FlagKind flag : flagKinds) {
+                FrontGroup group(flags, x, size, flag, o);
+                for (const Configuration& c : configs) {
+                    if (!c.runsOn(flag)) continue;
+                    ++row;
+                    if (work.mine()) csv << group.row(row, c, timing) << std::flush;
+                }
             }
     return row + 1;
 }

@@ -1,11 +1,12 @@
 #pragma once
-// Part 2 of the study (extreme.csv): the demo's flag and the stiff scene's flag on a carrier
-// driven through extreme motions (extreme_cases.h), per configuration (configurations.h), judged
-// against the flag's fine-step reference (extreme_runs.h): stable or not, stretch, the kinetic
-// energy in the carrier's frame (mean, last second, per 0.5 s window, and at the scale of
-// patches), and the trajectory error over 0.25 s horizons restarted from the reference's states.
-// extreme_cases.csv: per case, the largest speed and acceleration its carrier gives the flag's
-// pinned column; the study stops before any work when a case moves no pin and has no wind (it
+// The front (front.csv): for each flag (the demo's, the stiff scene's), path (the demo's drive,
+// drive_case.h, and the extreme cases, extreme_cases.h) and size, every configuration
+// (configurations.h) judged against that flag's fine-step reference (extreme_runs.h): its cost
+// (ms per tick, and per 60 Hz frame), its trajectory error over 0.25 s horizons restarted from
+// the reference's states, its stretch and flutter energy against the reference's, stable or not,
+// and the bounds it misses (bounds.h).
+// extreme_cases.csv: per path, the largest speed and acceleration its carrier gives the flag's
+// pinned column; the study stops before any work when a path moves no pin and has no wind (it
 // would test nothing).
 
 #include <string>
@@ -14,20 +15,27 @@
 #include "configurations.h"
 #include "engine/scene.h"
 #include "extreme_cases.h"
+#include "extreme_runs.h"
 #include "study_options.h"
 #include "work_items.h"
 
 namespace study {
 
-// The guard on every extreme case: its carrier moves the flag's pins, or it has wind. Writes each
-// case's largest pin speed and acceleration to `csv` (unless empty); false, with the reason on
-// stderr, when a case drives nothing.
-bool extremeCasesDriveTheFlag(const engine::SceneConfig& demo, const std::string& csv);
+// The two flags' scenes.
+struct Flags {
+    engine::SceneConfig demo, stiff;
+    const engine::SceneConfig& of(FlagKind flag) const { return flag == FlagKind::Demo ? demo : stiff; }
+};
 
-// Writes OUT/extreme.csv: each case x size x configuration a row, the rows of the work items this
-// shard holds; returns the whole run's number of rows.
-long runExtremes(const StudyOptions& o, const engine::SceneConfig& demo, const engine::SceneConfig& stiff,
-                 const std::vector<Extreme>& cases, const std::vector<int>& sizes,
-                 const std::vector<Configuration>& configs, WorkItems& work);
+// The guard on every path: its carrier moves the flag's pins, or it has wind. Writes each path's
+// largest pin speed and acceleration to `csv` (unless empty); false, with the reason on stderr,
+// when a path drives nothing.
+bool pathsDriveTheFlag(const engine::SceneConfig& demo, const std::vector<Extreme>& paths, const std::string& csv);
+
+// Writes OUT/front.csv: each path x size x flag x configuration a row, the rows of the work items
+// this shard holds; returns the whole run's number of rows.
+long runFront(const StudyOptions& o, const Flags& flags, const std::vector<FlagKind>& flagKinds,
+              const std::vector<Extreme>& paths, const std::vector<int>& sizes,
+              const std::vector<Configuration>& configs, WorkItems& work);
 
 }  // namespace study

@@ -123,12 +123,13 @@ int exportForNvidiaNewton(const StudyOptions& o, const std::vector<SolveErrorCon
                           const std::vector<int>& sizes) {
     std::filesystem::create_directories(o.exportDir);
     for (const SolveErrorConfig& c : configs)
-        if (!o.extremesOnly && c.k == 1e4 && c.h == 1.0 / 240)
+        if (!o.frontOnly && c.k == 1e4 && c.h == 1.0 / 240)
             exportForNvidiaNewtonRun(o.exportDir, *c.scene, c.n, c.k, c.h, solveErrorDuration(o));
-    if (o.doExtremes)  // --quick: the teleport only (the shortest case), to keep CI's run short
-        for (const Extreme& x : cases)
-            if (!o.quick || x.name == "teleport_1m")
-                for (const int size : sizes) exportExtremeForNvidiaNewton(o.exportDir, demo, x, size);
+    // --quick: the teleport only (the shortest case), to keep CI's run short
+    const std::vector<Extreme> paths = o.quick ? std::vector<Extreme>{extremes()[3]} : cases;
+    if (o.front)
+        for (const Extreme& x : paths)
+            for (const int size : sizes) exportExtremeForNvidiaNewton(o.exportDir, demo, x, size);
     std::fprintf(stderr, "flag and pole motion written to %s\n", o.exportDir.c_str());
     return 0;
 }

@@ -260,7 +260,7 @@ std::vector<SolveErrorConfig> solveErrorConfigs(const StudyOptions& o, const Sol
 long runSolveError(const StudyOptions& o, const std::vector<SolveErrorConfig>& configs, WorkItems& work) {
     const auto t0 = Clock::now();
     const std::vector<Method> methods = methodsOf(o);
-    std::ofstream csv(o.out + (o.extremesOnly ? "/unused.csv" : "/error_vs_runtime.csv"));
+    std::ofstream csv(o.out + (o.frontOnly ? "/unused.csv" : "/error_vs_runtime.csv"));
     csv << "row,scene,size,stiffness,h,family,solver,ms_per_step,timing,solve_error,traj_error_be,traj_error_fine,"
            "max_stretch,p99_stretch,energy_growth,stable,fail_step\n";
     long row = -1;

@@ -41,7 +41,7 @@ std::vector<SolveErrorConfig> solveErrorConfigs(const StudyOptions& o, const Sol
 // The run's duration of each configuration (s).
 inline double solveErrorDuration(const StudyOptions& o) { return o.quick ? 0.5 : 1.5; }
 
-// Writes OUT/error_vs_runtime.csv (OUT/unused.csv with --extremes-only): the rows of the
+// Writes OUT/error_vs_runtime.csv (OUT/unused.csv with --front-only): the rows of the
 // configurations this shard holds; returns the whole run's number of rows.
 long runSolveError(const StudyOptions& o, const std::vector<SolveErrorConfig>& configs, WorkItems& work);
 

@@ -11,34 +11,39 @@ namespace {
 
 const char* const kUsage = R"(usage: cloth_study [options]
 
-The solver study: error against run time on a hanging flag and on a flag following the demo's
-vehicle path, a scan over stiffness and time step, and the demo's flag in six extreme cases.
+The solver study. Part 1, the solve error: every solver against the converged backward Euler step
+on a hanging flag and on a flag following the demo's vehicle path, and a scan over stiffness and
+time step (error_vs_runtime.csv). The front: the demo's flag and the stiff flag on the demo's drive
+and in six extreme cases, every configuration against the flag's fine-step reference (front.csv).
 
-  --quick              a small grid (sizes 17 and 33, three stiffnesses and time steps, 0.5 s)
+  --quick              small: part 1 at sizes 17 and 33 (three stiffnesses and steps, 0.5 s); the
+                       front at 33x33 on the drive and two extreme cases, a few configurations
   --out DIR            where the CSV files go (default out/study)
-  --scenes LIST        comma-separated subset of: hanging_flag, vehicle_path
-  --sizes LIST         comma-separated grid sides, e.g. 17,33,65,129 (overrides the size list)
-  --solvers LIST       semicolon-separated solver specs to run instead of the default set,
+  --scenes LIST        part 1: comma-separated subset of hanging_flag, vehicle_path
+  --sizes LIST         part 1: comma-separated grid sides, e.g. 17,33,65,129
+  --solvers LIST       part 1: semicolon-separated solver specs to run instead of the default set,
                        e.g. "multigrid;multigrid:cycles=1;exact" (family = the name before ':')
-  --no-scan            skip the stiffness and time-step scan
-  --no-extremes        skip the extreme cases (extreme.csv)
-  --no-trajectories    no traj_error in extreme.csv (no run against each case's reference)
-  --extremes-only      only the extreme cases
-  --configs LIST       comma-separated subset of the extreme-case configurations (by name)
-  --cases LIST         comma-separated subset of the extreme cases (by name, e.g. spin_5radps)
-  --stiff-configs L    more configurations of the stiff flag: NAME=SPEC@HZ or NAME=SPEC@HZxSUBSTEPS,
-                       ';'-separated
+  --no-scan            part 1 without the stiffness and time-step scan
+  --no-front           no front (front.csv)
+  --front-only         only the front
+  --no-trajectories    no traj_error in the front (no restarted runs against the references)
+  --no-references      no references in the front: no traj_error, ref_* columns or bounds (misses
+                       empty), only each configuration's own figures (a quick check of stability)
+  --flags LIST         the front's flags: demo, stiff (default both)
+  --paths LIST         the front's paths: drive and the extreme cases (speed_50mps, stop_10g,
+                       spin_5radps, teleport_1m, light_particles, gale_40mps)
+  --configs LIST       comma-separated subset of the front's configurations (by name)
+  --add-configs L      more configurations: NAME=SPEC@HZ or NAME=SPEC@HZxSUBSTEPS, ';'-separated
                        (e.g. "bdf2_90=newton:integrator=bdf2@90"); pick them with --configs
-  --extreme-sizes LIST flag sides for the extreme cases (default 33,65, --quick 33; the flag keeps
-                       its aspect)
-  --extreme-scene S    whose flag the extreme cases run (a scene name or a .json path; default
-                       flag_vehicle): its size, mass, stiffness, air, physics rate and, as
-                       demo_default, its solver
+  --front-sizes LIST   flag sides of the front (default 33,65, --quick 33; the flag keeps its aspect)
+  --demo-scene S       the demo's flag (a scene name or a .json path; default flag_vehicle): its
+                       size, mass, stiffness, constraints, air, vehicle and drive script, and, as
+                       `shipped`, its solver
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
                        numbers; tools/study/merge_shards.py joins the parts)
   --export-nvidia-newton DIR
                        write the flag and pole motion of every k=1e4, h=1/240 configuration, and of
-                       every extreme case and size (--quick: the teleport), as JSON for NVIDIA
+                       every path and size of the front (--quick: the teleport), as JSON for NVIDIA
                        Newton's harness (tools/study/nvidia_newton_study.py), then stop
   --parallel           mark the timing columns as taken while other shards ran (timing=parallel)
   --help               this text
@@ -62,17 +67,18 @@ std::string readSides(const std::string& option, const std::string& text, long l
 int readValueOption(const std::string& a, const char* value, StudyOptions& o) {
     if (a == "--export-nvidia-newton") o.exportDir = value;
     else if (a == "--configs") o.configFilter = split(value, ',');
-    else if (a == "--cases") o.caseFilter = split(value, ',');
-    else if (a == "--stiff-configs") o.extraStiff = split(value, ';');
-    else if (a == "--extreme-scene") o.extremeScenePath = value;
+    else if (a == "--paths") o.pathFilter = split(value, ',');
+    else if (a == "--flags") o.flagFilter = split(value, ',');
+    else if (a == "--add-configs") o.extraConfigs = split(value, ';');
+    else if (a == "--demo-scene") o.demoScenePath = value;
     else if (a == "--out") o.out = value;
     else if (a == "--shard") {
         const std::string v = value;
         if (std::sscanf(v.c_str(), "%d/%d", &o.shard, &o.shards) != 2 || o.shards < 1 || o.shards > 1000 || o.shard < 1 ||
             o.shard > o.shards || v.find_first_not_of("0123456789/") != std::string::npos)
             return usageError("--shard: '" + v + "' is not K/N with 1 <= K <= N <= 1000");
-    } else if (a == "--extreme-sizes") {
-        if (const std::string bad = readSides(a, value, 5, 257, o.extremeSizes); !bad.empty()) return usageError(bad);
+    } else if (a == "--front-sizes") {
+        if (const std::string bad = readSides(a, value, 5, 257, o.frontSizes); !bad.empty()) return usageError(bad);
     } else if (a == "--scenes") {
         o.sceneFilter = split(value, ',');
         for (const std::string& sc : o.sceneFilter)
@@ -105,10 +111,11 @@ int parseOptions(int argc, char** argv, StudyOptions& o) {
             std::fputs(("\n--solvers takes these (name[:key=value,...]):\n" + cloth::solverHelp()).c_str(), stdout);
             return 0;
         } else if (a == "--quick") o.quick = true;
-        else if (a == "--extremes-only") o.extremesOnly = true;
+        else if (a == "--front-only") o.frontOnly = true;
         else if (a == "--no-scan") o.scan = false;
-        else if (a == "--no-extremes") o.doExtremes = false;
+        else if (a == "--no-front") o.front = false;
         else if (a == "--no-trajectories") o.trajectories = false;
+        else if (a == "--no-references") o.references = o.trajectories = false;
         else if (a == "--parallel") o.parallel = true;
         else if (i + 1 >= argc) return usageError("unknown or incomplete option '" + a + "'");
         else if (const int code = readValueOption(a, argv[++i], o); code >= 0) return code;

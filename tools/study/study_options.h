@@ -7,12 +7,13 @@
 namespace study {
 
 struct StudyOptions {
-    bool quick = false, extremesOnly = false, scan = true, doExtremes = true, parallel = false, trajectories = true;
+    bool quick = false, frontOnly = false, scan = true, front = true, parallel = false, trajectories = true,
+         references = true;
     int shard = 1, shards = 1;
-    std::vector<int> extremeSizes;  // default: 33 and 65 (--quick: 33)
+    std::vector<int> frontSizes;    // default: 33 and 65 (--quick: 33)
     std::vector<int> sizeOverride;  // part 1's sizes instead of its list
-    std::string out = "out/study", exportDir, extremeScenePath = "flag_vehicle";
-    std::vector<std::string> sceneFilter, solverSpecs, configFilter, caseFilter, extraStiff;
+    std::string out = "out/study", exportDir, demoScenePath = "flag_vehicle";
+    std::vector<std::string> sceneFilter, solverSpecs, configFilter, pathFilter, flagFilter, extraConfigs;
 };
 
 // Reads the command line into `o`. Returns -1 to go on, else the exit code: 0 after --help, 2 for

@@ -1,0 +1,71 @@
+// Bullet's btSoftBody as a solver kind of the study (registerSolverKind), so that the front runs
+// it on the same flags, paths and air as every solver of this library: bullet_softbody steps the
+// flag's particles, masses and springs (as Bullet's links, kLST = 1: as stiff as its solver
+// allows) with Bullet's own position solver; the pins are kinematic nodes moved to their targets;
+// the air and the drag come in as external forces. A peer for the study only: the library does
+// not link Bullet.
+
+#include "bullet_kind.h"
+
+#include <memory>
+
+#include "cloth/diagnostics.h"
+#include "peer/bullet_cloth.h"
+#include "registry/solver_registry.h"
+#include "solvers/step_common.h"
+
+namespace study {
+
+namespace {
+
+struct BulletSettings {
+    int iterations = 10;
+};
+
+class BulletSolver final : public cloth::Solver {
+public:
+    cloth::StepResult step(const cloth::Model& model, const cloth::Environment& env, cloth::State& state,
+                           const cloth::StepInput& input) override {
+        using namespace cloth;
+        if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
+        if (!bullet_ || model.id() != model_)
+            bullet_ = std::make_unique<peer::BulletCloth>(model, state, input.pins, settings<BulletSettings>().iterations);
+        model_ = model.id();
+        const auto t0 = Clock::now();
+        // Gravity is Bullet's own; the drag and the air come in as forces.
+        force_ = input.externalForce ? *input.externalForce : Points::Zero(3, model.particleCount());
+        for (Index i = 0; i < model.particleCount(); ++i) force_.col(i) -= env.drag * model.masses()[i] * state.v.col(i);
+        scratch_ = state;
+        bullet_->step(input.h, input.pins, &force_, scratch_);
+        dv_ = scratch_.v - state.v;
+        profile_ = {0, msSince(t0), 0};
+        StepResult r = commit(model, constraints_, input, *pool_, state, scratch_, StepResult{});
+        r.iterations = settings<BulletSettings>().iterations;
+        return r;
+    }
+
+private:
+    std::unique_ptr<peer::BulletCloth> bullet_;
+    std::uint64_t model_ = 0;
+    cloth::Points force_;
+    cloth::State scratch_;
+};
+
+}  // namespace
+
+void registerBulletSoftBody() {
+    using namespace cloth;
+    if (findSolverKind("bullet_softbody")) return;
+    using B = BulletSettings;
+    using key = SolverKeys;
+    registerSolverKind({"bullet_softbody",
+                        "Bullet's btSoftBody (a study peer): the springs as links, Bullet's position solver",
+                        defaultsTo<B>,
+                        withCommon({key::shown(key::integer("iterations", &B::iterations, 1, 1000,
+                                                            "Bullet's position-solver iterations (piterations)"))},
+                                   false),
+                        {},
+                        createSolver<BulletSolver>});
+}
+
+}  // namespace study
