@@ -108,6 +108,8 @@ public:
     virtual std::string details() const { return {}; }
     // Whether the solver evaluates the air itself at the end-of-step state (StepInput::air).
     virtual bool couplesAir() const { return false; }
+    // Whether the solver meets the colliders itself, at every substep (StepInput::colliders).
+    virtual bool resolvesCollisions() const { return false; }
     // Forget what the solver keeps from earlier steps (BDF2's last state): the next step starts
     // afresh. The caller calls it when it moves the cloth to a state the solver did not make.
     virtual void resetHistory() {}

@@ -7,6 +7,7 @@
 // Rows of pinned particles become dv_p = prescribed; their columns move to the right-hand side.
 
 #include <Eigen/SparseCore>
+#include <cstdint>
 #include <vector>
 
 #include "cloth/model.h"
@@ -14,6 +15,7 @@
 namespace cloth {
 
 struct AirParams;  // air.h
+struct Collider;   // collision.h
 
 struct Environment {
     Vec3 gravity = Vec3(0, -9.81, 0);  // m/s^2
@@ -41,6 +43,13 @@ struct StepInput {
     // newton). Such a solver ignores `damping`; the caller then leaves the air out of
     // externalForce. Null for the others.
     const AirParams* air = nullptr;
+    // The colliders, for a solver that meets them itself at every substep
+    // (Solver::resolvesCollisions: small_steps), each particle kept `thickness` out of them and
+    // those with collisionSkip[i] != 0 left alone (collision.h's resolveCollisions). Null for the
+    // others: the caller resolves the collisions after the step.
+    const std::vector<Collider>* colliders = nullptr;
+    Scalar thickness = 0;
+    const std::vector<std::uint8_t>* collisionSkip = nullptr;
 };
 
 // One implicit step's problem: the cloth, its environment, the state the step starts from, the

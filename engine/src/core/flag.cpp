@@ -186,6 +186,12 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
         timings_.air += Profiler::ms(t1 - t0);
         if (trace_) trace_->complete(traceNames_.air, Trace::Category::Phase, t0, t1);
     }
+    const bool collideHere = collision_ && !colliders.empty();
+    if (collideHere && solver_->resolvesCollisions()) {  // at every substep of the solver's
+        input.colliders = &colliders;
+        input.thickness = thickness_;
+        input.collisionSkip = &collisionSkip_;
+    }
     stage_ = traceNames_.step;
     const auto stepBegin = trace_ ? Clock::now() : Clock::time_point{};
     const cloth::StepResult r = solver_->step(model_, env_, state_, input);
@@ -203,7 +209,7 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
                             std::to_string(r.badParticle) + ")";
         return false;
     }
-    if (collision_ && !colliders.empty()) {
+    if (collideHere && !solver_->resolvesCollisions()) {
         stage_ = traceNames_.collision;
         const auto t0 = Clock::now();
         cloth::resolveCollisions(colliders, thickness_, &collisionSkip_, state_, &solver_->threadPool(),

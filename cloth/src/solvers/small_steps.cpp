@@ -1,0 +1,225 @@
+// small_steps: the true motion's own integrator made fast. Symplectic Euler in small substeps,
+// the air and the collisions at every substep, the pins moving along the carrier's path within
+// the step: the same model as the study's fine-step reference (its explicit steps, air and
+// collisions per substep), in float SIMD on the grid's stencil (small_steps/stencil_cloth.h),
+// positions relative to the first pin so float keeps its precision anywhere in the world, on one
+// or more threads that meet twice per substep (the same bits for any count). substeps=0 picks
+// each step's count from the stability bound (small_steps/stable_step.h) times `fraction`.
+// Grids only (Model::fromGrid's layout); on another mesh every step fails and details() says why.
+
+#include <algorithm>
+#include <memory>
+
+#include "cloth/air.h"
+#include "cloth/collision.h"
+#include "cloth/diagnostics.h"
+#include "registry/solver_registry.h"
+#include "small_steps/collisions.h"
+#include "small_steps/kernels.h"
+#include "small_steps/spin_barrier.h"
+#include "small_steps/stable_step.h"
+#include "solvers/step_common.h"
+
+namespace cloth {
+
+namespace {
+
+struct SmallStepsSettings {
+    int substeps = 0;
+    double fraction = 0.5;
+    int threads = 1;
+};
+
+// The pinned particles' targets per substep, and the constant part of each substep's forces.
+struct StepPlan {
+    IntegrateConstants integrate;
+    AirConstants air;
+    int substeps = 1;
+    std::vector<int> pinned;            // particles
+    std::vector<Vec3> pinStart, pinEnd;  // relative to the origin
+};
+
+class SmallStepsSolver final : public Solver {
+public:
+    bool couplesAir() const override { return true; }
+    bool resolvesCollisions() const override { return true; }
+    std::string details() const override {
+        return layoutError_.empty() ? "substeps in the last step: " + std::to_string(lastSubsteps_) : layoutError_;
+    }
+
+    StepResult step(const Model& model, const Environment& env, State& state, const StepInput& input) override {
+        if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
+        if (model.id() != cloth_.modelId && !prepare(model)) return {StepStatus::SolverFailed, -1};
+        profile_ = {};
+        auto t0 = Clock::now();
+        load(model, env, state, input);
+        profile_.forcesMs = msSince(t0);
+        t0 = Clock::now();
+        runSubsteps();
+        profile_.solveMs = msSince(t0);
+        t0 = Clock::now();
+        store();
+        StepResult result = commit(model, constraints_, input, *pool_, state, scratch_, StepResult{});
+        result.iterations = plan_.substeps;
+        profile_.integrateMs = msSince(t0);
+        return result;
+    }
+
+private:
+    const SmallStepsSettings& own() const { return settings<SmallStepsSettings>(); }
+
+    bool prepare(const Model& model) {
+        layoutError_ = cloth_.build(model);
+        if (!layoutError_.empty()) return false;
+        s_.assign(cloth_);
+        pinnedMask_.assign(cloth_.n, cloth_.pad);
+        pinPos_.assign(cloth_.n, cloth_.pad), pinVel_.assign(cloth_.n, cloth_.pad), external_.assign(cloth_.n, cloth_.pad);
+        springFrequency_ = springFrequencyBound(model);
+        const int threads = pool_->threads();
+        ranges_.clear();
+        for (int t = 0; t <= threads; ++t) ranges_.push_back(int((long long)cloth_.n * t / threads) / 8 * 8);
+        ranges_.back() = cloth_.n;
+        barrier_ = std::make_unique<SpinBarrier>(threads);
+        return true;
+    }
+
+    void load(const Model& model, const Environment& env, const State& state, const StepInput& input);
+    void loadPins(const StepInput& input);
+    void runSubsteps();
+    void worker(int index);
+    void store();
+
+    StencilCloth cloth_;
+    StencilState s_;
+    PaddedField pinnedMask_;
+    Vec3Field pinPos_, pinVel_, external_;
+    StepPlan plan_;
+    SubstepColliders colliders_;
+    Vec3 origin_ = Vec3::Zero();
+    Points startV_;
+    State scratch_;
+    Scalar springFrequency_ = 0;
+    std::vector<int> ranges_;  // thread t takes particles [ranges_[t], ranges_[t + 1])
+    std::unique_ptr<SpinBarrier> barrier_;
+    std::string layoutError_;
+    int lastSubsteps_ = 0;
+};
+
+// The state relative to the origin (the first pin where the step starts), the pins, the air, the
+// colliders, and the substeps of this step.
+void SmallStepsSolver::load(const Model& model, const Environment& env, const State& state, const StepInput& input) {
+    origin_ = input.pins.empty() ? Vec3(state.x.col(0)) : Vec3(state.x.col(input.pins.front().particle));
+    float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at(), *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
+    for (Index i = 0; i < cloth_.n; ++i) {
+        const Vec3 r = state.x.col(i) - origin_;
+        x[i] = float(r.x()), y[i] = float(r.y()), z[i] = float(r.z());
+        vx[i] = float(state.v(0, i)), vy[i] = float(state.v(1, i)), vz[i] = float(state.v(2, i));
+    }
+    startV_ = state.v;
+    loadPins(input);
+    IntegrateConstants& c = plan_.integrate;
+    c.gx = float(env.gravity.x()), c.gy = float(env.gravity.y()), c.gz = float(env.gravity.z());
+    c.drag = float(env.drag);
+    c.air = input.air != nullptr;
+    if (input.air) {
+        const AirParams& a = *input.air;
+        plan_.air = {float(a.wind.x()), float(a.wind.y()), float(a.wind.z()), float(a.density / 4 / 3),
+                     float(a.dragCoefficient - a.frictionCoefficient + a.liftCoefficient), float(a.frictionCoefficient),
+                     float(a.liftCoefficient)};
+    }
+    c.extX = c.extY = c.extZ = nullptr;
+    if (input.externalForce) {
+        for (Index i = 0; i < cloth_.n; ++i)
+            external_.x.at()[i] = float((*input.externalForce)(0, i)), external_.y.at()[i] = float((*input.externalForce)(1, i)),
+            external_.z.at()[i] = float((*input.externalForce)(2, i));
+        c.extX = external_.x.at(), c.extY = external_.y.at(), c.extZ = external_.z.at();
+    }
+    colliders_.prepare(input.colliders, input.thickness, input.collisionSkip, origin_);
+    plan_.substeps = own().substeps > 0 ? own().substeps
+                                        : stableSubsteps(input.h, springFrequency_, airRateBound(model, state, input.air),
+                                                         own().fraction);
+    lastSubsteps_ = plan_.substeps;
+    c.h = float(input.h / plan_.substeps);
+}
+
+// The pinned particles move on a straight line from where they are to their targets over the
+// step, with their targets' velocity (as engine::Flag moves them over its substeps).
+void SmallStepsSolver::loadPins(const StepInput& input) {
+    std::fill(pinnedMask_.storage.begin(), pinnedMask_.storage.end(), 0.0f);
+    plan_.pinned.clear(), plan_.pinStart.clear(), plan_.pinEnd.clear();
+    for (const Pin& p : input.pins) {
+        if (p.particle < 0 || p.particle >= cloth_.n) continue;
+        const int i = int(p.particle);
+        pinnedMask_.at()[i] = 1;
+        plan_.pinned.push_back(i);
+        plan_.pinStart.push_back(Vec3(s_.x.x.at()[i], s_.x.y.at()[i], s_.x.z.at()[i]));
+        plan_.pinEnd.push_back(p.x - origin_);
+        pinVel_.x.at()[i] = float(p.v.x()), pinVel_.y.at()[i] = float(p.v.y()), pinVel_.z.at()[i] = float(p.v.z());
+    }
+    IntegrateConstants& c = plan_.integrate;
+    c.pinned = pinnedMask_.at();
+    c.pinX = pinPos_.x.at(), c.pinY = pinPos_.y.at(), c.pinZ = pinPos_.z.at();
+    c.pinVX = pinVel_.x.at(), c.pinVY = pinVel_.y.at(), c.pinVZ = pinVel_.z.at();
+}
+
+void SmallStepsSolver::runSubsteps() {
+    const int threads = pool_->threads();
+    if (threads == 1) return worker(0);
+    pool_->run(2 * threads, [this](int begin, int) { worker(begin / 2); });
+}
+
+// Thread `index`'s share of every substep: the springs and the air at its slots, then, once every
+// thread's are done, its particles' integration and collisions.
+void SmallStepsSolver::worker(int index) {
+    const int begin = ranges_[std::size_t(index)], end = ranges_[std::size_t(index) + 1];
+    const bool together = pool_->threads() > 1;
+    for (int sub = 1; sub <= plan_.substeps; ++sub) {
+        if (index == 0) {
+            const Scalar along = Scalar(sub) / plan_.substeps;
+            for (std::size_t k = 0; k < plan_.pinned.size(); ++k) {
+                const Vec3 x = plan_.pinStart[k] + along * (plan_.pinEnd[k] - plan_.pinStart[k]);
+                const int i = plan_.pinned[k];
+                pinPos_.x.at()[i] = float(x.x()), pinPos_.y.at()[i] = float(x.y()), pinPos_.z.at()[i] = float(x.z());
+            }
+        }
+        for (int f = 0; f < int(cloth_.offsets.size()); ++f) springKernel(cloth_, f, s_, begin, end);
+        if (plan_.integrate.air) airKernel(cloth_, plan_.air, s_, begin, end);
+        if (together) barrier_->wait();
+        integrateKernel(cloth_, plan_.integrate, s_, begin, end);
+        if (colliders_.any()) colliders_.resolve(s_, begin, end);
+        if (together) barrier_->wait();
+    }
+}
+
+// Back to the world, in double: x = origin + relative position; dv over the step.
+void SmallStepsSolver::store() {
+    scratch_.x.resize(3, cloth_.n);
+    scratch_.v.resize(3, cloth_.n);
+    const float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at(), *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
+    for (Index i = 0; i < cloth_.n; ++i) {
+        scratch_.x.col(i) = origin_ + Vec3(x[i], y[i], z[i]);
+        scratch_.v.col(i) = Vec3(vx[i], vy[i], vz[i]);
+    }
+    dv_ = scratch_.v - startV_;
+}
+
+}  // namespace
+
+FLAGSIM_SOLVER_KIND(small_steps) {
+    using S = SmallStepsSettings;
+    using key = SolverKeys;
+    return {"small_steps",
+            "symplectic Euler in small substeps, the air and collisions at every one (the true motion's integrator), in "
+            "float SIMD relative to the pole",
+            defaultsTo<S>,
+            withCommon({key::shown(key::integer("substeps", &S::substeps, 0, 100000,
+                                                "substeps per step; 0 = each step's from the stability bound")),
+                        key::real("fraction", &S::fraction, 0, 4, true, false,
+                                  "substeps=0: this fraction of the stability bound's longest substep"),
+                        threadsKey<S>()},
+                       false),
+            {},
+            createSolver<SmallStepsSolver>};
+}
+
+}  // namespace cloth
