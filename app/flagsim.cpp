@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     CLI::App app{"flagsim: a cloth flag on a vehicle, stepped by Kang & Cho's solver."};
     // tools/run passes defaults first; what the user adds after them wins.
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    app.set_version_flag("--version", std::string("flagsim ") + FLAGSIM_VERSION);
     app.add_option("--scene", scene,
                    "scene name (flag_vehicle, flag_vehicle_hd, flag_vehicle_stiff, flag_vehicle_stiff_fine, hanging_flag, bench_cloth, vehicle_only) or a "
                    "scene file path");
@@ -47,7 +48,11 @@ int main(int argc, char** argv) {
     app.add_option("--constraints", constraints,
                    "override the flag's constraints, e.g. tether=0.02,stretch_limit=0.1 (\"\" for none; keys below)")
         ->each([&](const std::string&) { setConstraints = true; });
-    app.add_option("--msaa", o.msaa, "anti-aliasing samples per pixel (default: the scene's, 4; 0: off)")
+    app.add_option("--aa", o.aa,
+                   "anti-aliasing: auto (the default: post on a software rasterizer, msaa on a GPU), post (one "
+                   "pass over the frame), msaa, off")
+        ->check(CLI::IsMember({"auto", "post", "msaa", "off"}));
+    app.add_option("--msaa", o.msaa, "multisampling with N samples per pixel (0: off); without --aa, it selects msaa")
         ->check(CLI::Range(0, 16));
     app.add_option("--width", o.width, "override the render width")->check(CLI::Range(16, 7680));
     app.add_option("--height", o.height, "override the render height")->check(CLI::Range(16, 4320));

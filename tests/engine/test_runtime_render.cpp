@@ -106,8 +106,9 @@ TEST(RuntimeRender, ReplayingRecordedInputGivesTheSameFrames) {
 
 namespace {
 
-std::vector<std::uint8_t> lastFrame(SceneConfig s, int msaa, int scale) {
-    s.render.msaa = msaa;
+std::vector<std::uint8_t> lastFrame(SceneConfig s, AntiAliasing aa, int scale) {
+    s.render.aa = aa;
+    s.render.msaa = 4;
     s.render.width *= scale;
     s.render.height *= scale;
     s.render.shadowMapSize *= scale;
@@ -119,17 +120,11 @@ std::vector<std::uint8_t> lastFrame(SceneConfig s, int msaa, int scale) {
     return rt.pixels();
 }
 
-}  // namespace
-
-// Multisampling approximates supersampling where it matters, on edges: at the pixels whose 2x2
-// block of the frame rendered at twice the size holds an edge (its channels spread by more than
-// 48 levels), the 4-sample frame is much closer to the block's mean than the frame without it.
-TEST(RuntimeRender, FourSampleAntiAliasingIsCloseToTwiceTheResolutionAveragedOnEdges) {
-    const SceneConfig s = small("hanging_flag", 320, 240);
-    const std::vector<std::uint8_t> msaa = lastFrame(s, 4, 1), aliased = lastFrame(s, 0, 1), big = lastFrame(s, 0, 2);
-    const int w = 320, h = 240;
-    double toMsaa = 0, toAliased = 0;
-    int edges = 0;
+// The mean difference, in levels, between `frame` and the frame rendered at twice the size and
+// averaged 2x2, over the edge channels: those whose 2x2 block spreads by more than 48 levels.
+double edgeError(const std::vector<std::uint8_t>& frame, const std::vector<std::uint8_t>& big, int w, int h, int* edges) {
+    double sum = 0;
+    *edges = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int c = 0; c < 3; ++c) {
@@ -140,20 +135,38 @@ TEST(RuntimeRender, FourSampleAntiAliasingIsCloseToTwiceTheResolutionAveragedOnE
                         mean += v / 4, lo = std::min(lo, v), hi = std::max(hi, v);
                     }
                 if (hi - lo <= 48) continue;
-                const std::size_t i = (std::size_t(y) * w + x) * 4 + c;
-                toMsaa += std::abs(msaa[i] - mean);
-                toAliased += std::abs(aliased[i] - mean);
-                ++edges;
+                sum += std::abs(frame[(std::size_t(y) * w + x) * 4 + c] - mean);
+                ++*edges;
             }
+    return *edges ? sum / *edges : 0;
+}
+
+}  // namespace
+
+// Anti-aliasing approximates supersampling where it matters, on edges: at the pixels whose 2x2
+// block of the frame rendered at twice the size holds an edge, 4-sample multisampling and the
+// post pass (frame_aa.h) are both much closer to the block's mean than the frame without either.
+// The post pass's bound, 11 levels, is what the frame without it misses (about 14).
+TEST(RuntimeRender, AntiAliasingIsCloseToTwiceTheResolutionAveragedOnEdges) {
+    const SceneConfig s = small("hanging_flag", 320, 240);
+    const auto big = lastFrame(s, AntiAliasing::Off, 2);
+    int edges = 0;
+    const double msaa = edgeError(lastFrame(s, AntiAliasing::Msaa, 1), big, 320, 240, &edges);
+    const double post = edgeError(lastFrame(s, AntiAliasing::Post, 1), big, 320, 240, &edges);
+    const double aliased = edgeError(lastFrame(s, AntiAliasing::Off, 1), big, 320, 240, &edges);
     ASSERT_GT(edges, 200) << "too few edges to judge";
-    EXPECT_LT(toMsaa, 0.7 * toAliased) << "mean difference on " << edges << " edge channels: " << toMsaa / edges
-                                       << " vs " << toAliased / edges;
+    EXPECT_LT(msaa, 0.7 * aliased) << "mean difference on " << edges << " edge channels: msaa " << msaa << ", none " << aliased;
+    EXPECT_LE(post, 11.0) << "post " << post << ", msaa " << msaa << ", none " << aliased;
+    EXPECT_GT(aliased, 11.0) << "the bound must tell the pass from no pass";
 }
 
 // --overlay draws the panel into the recorded frames, in its own profile phase, and nowhere else:
-// the frame matches the one without it outside the panel's corner, and differs inside it.
+// the frame matches the one without it outside the panel's corner, and differs inside it. (Without
+// anti-aliasing: the post pass searches along an edge up to 24 pixels, so it blends the panel's
+// border into the scene beside it.)
 TEST(RuntimeRender, TheOverlayIsInItsOwnPhaseAndOnlyInThePanelsCorner) {
-    const SceneConfig s = small("flag_vehicle", 960, 540);
+    SceneConfig s = small("flag_vehicle", 960, 540);
+    s.render.aa = AntiAliasing::Off;
     RunOptions o;
     o.frames = 10;
     Runtime plain(s, o);

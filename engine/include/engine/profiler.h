@@ -25,11 +25,12 @@ enum class Phase {
     Collision,    // the flag against the pole, the vehicle and the ground          [collision]
     Render,       // the scene drawn                                                [render]
     Readback,     // glFinish and the pixels read back                              [render]
+    AntiAlias,    // the post pass over the pixels read back                        [render.aa = post]
     Overlay,      // the panel drawn into the recorded frames                       [--overlay]
     Panel,        // the panel drawn on screen only                                 [window]
     Write,        // the frame handed to the PNG and video writers                  [recording]
 };
-inline constexpr int kPhaseCount = 11;
+inline constexpr int kPhaseCount = 12;
 const char* phaseName(Phase phase);  // "input", "bullet", "cloth_forces", ...
 
 // One frame's milliseconds in each phase (0 in a phase the scene does not enable) and in all.

@@ -39,7 +39,8 @@ struct RunOptions {
     std::string tracePath;      // empty: no trace; else a Chrome Trace Event JSON of the run
     bool overlay = false;       // the panel's graphs and stats drawn into the recorded frames
     int width = 0, height = 0;  // 0: the scene's
-    int msaa = -1;              // -1: the scene's; 0 or 1: no anti-aliasing; else samples per pixel
+    std::string aa;             // empty: the scene's render.aa; else auto, off, msaa or post
+    int msaa = -1;              // -1: the scene's; else the samples, and (without aa) msaa or off
     bool readback = false;      // read every frame back even in a window without recording
     std::string assetsDir = defaultAssetsDir();
 };

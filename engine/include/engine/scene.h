@@ -7,6 +7,7 @@
 #include <array>
 #include <string>
 
+#include "engine/render/anti_aliasing.h"
 #include "cloth/air.h"
 #include "cloth/model.h"
 #include "cloth/solver.h"
@@ -89,7 +90,8 @@ struct SceneConfig {
     struct Render {
         int width = 1280, height = 720;
         int shadowMapSize = 1024;
-        int msaa = 4;  // samples per pixel of the main pass (anti-aliasing); 0 or 1: off
+        AntiAliasing aa = AntiAliasing::Auto;  // render/anti_aliasing.h
+        int msaa = 4;  // samples per pixel of the main pass with aa = msaa
     } render;
 };
 

@@ -11,9 +11,9 @@
 namespace engine {
 
 const char* phaseName(Phase phase) {
-    static const char* const names[kPhaseCount] = {"input",    "bullet",   "air",     "cloth_forces",
+    static const char* const names[kPhaseCount] = {"input",    "bullet",   "air",      "cloth_forces",
                                                    "cloth_solve", "collision", "render", "readback",
-                                                   "overlay",  "panel",    "write"};
+                                                   "aa", "overlay",  "panel",    "write"};
     return names[std::size_t(phase)];
 }
 

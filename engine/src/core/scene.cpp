@@ -201,16 +201,17 @@ void readCamera(const JsonFields& top, SceneConfig::Camera& camera) {
     camera.target = c.vec3("target", camera.target, -1e4, 1e4);
 }
 
-// "render": the frame size (even, for video encoding) and the shadow map's size.
+// "render": the frame size (even, for video encoding), the shadow map's size, the anti-aliasing.
 void readRender(const JsonFields& top, SceneConfig::Render& render) {
     const JsonFields r = top.child("render");
-    r.allowOnly({"width", "height", "shadow_map_size", "msaa"});
+    r.allowOnly({"width", "height", "shadow_map_size", "aa", "msaa"});
     render.width = r.integer("width", render.width, 16, 7680);
     render.height = r.integer("height", render.height, 16, 4320);
     if (render.width % 2 || render.height % 2)
         r.fail(r.pathOf("width"), render.width, "width and height must be even (video encoding)");
     render.shadowMapSize = r.integer("shadow_map_size", render.shadowMapSize, 0, 8192);
     render.msaa = r.integer("msaa", render.msaa, 0, 16);
+    antiAliasingOf(r.oneOf("aa", toString(render.aa), {"auto", "off", "msaa", "post"}), render.aa);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@ namespace engine::gl {
     X(PFNGLDELETESHADERPROC, DeleteShader) X(PFNGLDELETEPROGRAMPROC, DeleteProgram)         \
     X(PFNGLUSEPROGRAMPROC, UseProgram) X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)   \
     X(PFNGLUNIFORM1IPROC, Uniform1i) X(PFNGLUNIFORM1FPROC, Uniform1f)                       \
+    X(PFNGLUNIFORM2FPROC, Uniform2f)                                                        \
     X(PFNGLUNIFORM3FVPROC, Uniform3fv) X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)       \
     X(PFNGLGENTEXTURESPROC, GenTextures) X(PFNGLBINDTEXTUREPROC, BindTexture)               \
     X(PFNGLTEXIMAGE2DPROC, TexImage2D) X(PFNGLTEXPARAMETERIPROC, TexParameteri)             \
@@ -56,5 +57,9 @@ using GetProc = void* (*)(const char*);
 
 // Loads every function; false with *error naming the first one missing.
 bool load(Api& api, GetProc getProc, std::string* error);
+
+// A program of a vertex and a fragment shader. Throws std::runtime_error with the compiler's or
+// the linker's log when either fails.
+GLuint linkProgram(const Api& gl, const char* vertexSource, const char* fragmentSource);
 
 }  // namespace engine::gl

@@ -144,6 +144,9 @@ struct Renderer::Impl {
     GLuint shadowFbo = 0, shadowTexture = 0;
     int shadowSize = 0;
     std::unique_ptr<MsaaTarget> msaa;  // null: the main pass draws straight into framebuffer 0
+    bool post = false;                 // the frame read back gets the post pass (frame_aa.h)
+    std::string glRenderer;
+    void chooseAntiAliasing(const GLContext& context, AntiAliasing aa, int samples);
     struct Mesh {
         GLuint vao = 0, vbo = 0, ebo = 0;
         GLsizei indexCount = 0;
@@ -156,37 +159,7 @@ struct Renderer::Impl {
     std::vector<GLuint> textures;
     std::vector<float> interleaved;
 
-    GLuint compile(GLenum type, const char* source) {
-        const GLuint s = gl.CreateShader(type);
-        gl.ShaderSource(s, 1, &source, nullptr);
-        gl.CompileShader(s);
-        GLint ok = 0;
-        gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-        if (!ok) {
-            char log[2048];
-            gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
-            gl.DeleteShader(s);
-            throw std::runtime_error(std::string("shader does not compile: ") + log);
-        }
-        return s;
-    }
-    GLuint link(const char* vs, const char* fs) {
-        const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
-        const GLuint p = gl.CreateProgram();
-        gl.AttachShader(p, v);
-        gl.AttachShader(p, f);
-        gl.LinkProgram(p);
-        gl.DeleteShader(v);
-        gl.DeleteShader(f);
-        GLint ok = 0;
-        gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
-        if (!ok) {
-            char log[2048];
-            gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
-            throw std::runtime_error(std::string("shader program does not link: ") + log);
-        }
-        return p;
-    }
+    GLuint link(const char* vs, const char* fs) { return gl::linkProgram(gl, vs, fs); }
     GLint loc(GLuint program, const char* name) { return gl.GetUniformLocation(program, name); }
     void setMat(GLuint p, const char* name, const Eigen::Matrix4f& m) {
         gl.UniformMatrix4fv(loc(p, name), 1, GL_FALSE, m.data());
@@ -263,7 +236,27 @@ struct Renderer::Impl {
     }
 };
 
-Renderer::Renderer(GLContext& context, int shadowMapSize, int msaaSamples) : impl_(std::make_unique<Impl>()) {
+// Auto resolved from the renderer's name, then the target of the mode made; a mode the context
+// cannot offer falls back to none, with a note.
+void Renderer::Impl::chooseAntiAliasing(const GLContext& context, AntiAliasing aa, int samples) {
+    const GLubyte* name = gl.GetString(GL_RENDERER);
+    glRenderer = name ? reinterpret_cast<const char*>(name) : "";
+    if (aa == AntiAliasing::Auto)
+        aa = glRenderer.find("llvmpipe") != std::string::npos || glRenderer.find("softpipe") != std::string::npos
+                 ? AntiAliasing::Post
+                 : AntiAliasing::Msaa;
+    post = aa == AntiAliasing::Post;
+    if (aa != AntiAliasing::Msaa || samples < 2) return;
+    msaa = std::make_unique<MsaaTarget>();
+    std::string why;
+    if (!msaa->create(gl, context.width(), context.height(), samples, &why)) {
+        msaa.reset();
+        std::fprintf(stderr, "flagsim: note: no anti-aliasing: %s\n", why.c_str());
+    }
+}
+
+Renderer::Renderer(GLContext& context, int shadowMapSize, AntiAliasing aa, int msaaSamples)
+    : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.context = &context;
     std::string error;
@@ -294,15 +287,14 @@ Renderer::Renderer(GLContext& context, int shadowMapSize, int msaaSamples) : imp
             throw std::runtime_error("the shadow-map framebuffer is incomplete");
         gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
     }
-    if (msaaSamples > 1) {
-        m.msaa = std::make_unique<MsaaTarget>();
-        std::string why;
-        if (!m.msaa->create(m.gl, context.width(), context.height(), msaaSamples, &why)) {
-            std::fprintf(stderr, "flagsim: note: no anti-aliasing: %s\n", why.c_str());
-            m.msaa.reset();
-        }
-    }
+    m.chooseAntiAliasing(context, aa, msaaSamples);
 }
+
+AntiAliasing Renderer::antiAliasing() const {
+    return impl_->msaa ? AntiAliasing::Msaa : impl_->post ? AntiAliasing::Post : AntiAliasing::Off;
+}
+
+const std::string& Renderer::glRenderer() const { return impl_->glRenderer; }
 
 Renderer::~Renderer() {
     Impl& m = *impl_;

@@ -105,6 +105,7 @@ std::vector<std::string> sceneNames(const std::string& assetsDir) {
 PanelState Runtime::Impl::panelState() const {
     PanelState s;
     s.scene = scene.name;
+    s.antiAliasing = view ? view->antiAliasing() : "off";
     s.scenes = scenes;
     if (recorder || recording) s.switchNote = "recording: one run of one scene (no switching)";
     s.hasFlag = flag != nullptr;

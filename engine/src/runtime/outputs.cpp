@@ -16,6 +16,7 @@ int Runtime::finish() {
     f.scene = m.scene.name;
     f.subsystems = describeSubsystems(m.scene.subsystems);
     f.solver = (m.scene.subsystems & kCloth) ? m.scene.flag.solver.describe() : "";
+    f.antiAliasing = m.view ? m.view->antiAliasing() : "";
     f.script = m.script ? (m.opt.scriptPath.empty() ? m.scene.script : m.opt.scriptPath) : "";
     f.frames = m.frame;
     f.width = m.scene.render.width;

@@ -64,7 +64,13 @@ void Runtime::Impl::applyOptions() {
     const RunOptions& options = opt;
     if (options.width) s.render.width = options.width;
     if (options.height) s.render.height = options.height;
-    if (options.msaa >= 0) s.render.msaa = options.msaa;
+    // --msaa N: N samples, and unless --aa says otherwise multisampling (N > 1) or none.
+    if (options.msaa >= 0) {
+        s.render.msaa = options.msaa;
+        s.render.aa = options.msaa > 1 ? AntiAliasing::Msaa : AntiAliasing::Off;
+    }
+    if (!options.aa.empty() && !antiAliasingOf(options.aa, s.render.aa))
+        throw ConfigError("--aa " + options.aa + ": must be one of: auto, off, msaa, post");
     if ((s.render.width % 2) || (s.render.height % 2))
         throw ConfigError("--width/--height: " + std::to_string(s.render.width) + "x" +
                           std::to_string(s.render.height) + " must both be even");
@@ -181,6 +187,7 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     else if (!options.scriptPath.empty()) m.script = InputScript::load(options.scriptPath);  // its events
     if (m.scene.subsystems & kCloth) m.buildFlag();
     if (m.scene.subsystems & kRender) m.buildView();
+    if (m.view && m.view->antiAliasing().rfind("post", 0) == 0) m.profiler.enable(Phase::AntiAlias);
     if (m.view && m.view->hasPanel()) m.scenes = sceneNames(options.assetsDir);
     if (m.view && (m.scene.subsystems & kRecording)) m.buildRecording();
     m.clock->startWall();

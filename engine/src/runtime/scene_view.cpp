@@ -11,6 +11,7 @@
 #include "engine/physics/vehicle_world.h"
 #endif
 #include "engine/render/renderer.h"
+#include "render/frame_aa.h"
 #include "runtime/vehicle_system.h"
 #ifdef FLAGSIM_HAS_ASSIMP
 #include "engine/assets/model_loader.h"
@@ -44,6 +45,7 @@ struct SceneView::Impl {
     std::vector<float> flagPositions, flagNormals;
     std::vector<std::uint32_t> flagIndices;
     std::vector<std::uint8_t> pixels;
+    FrameAntiAliasing frameAa;  // the post pass (render.aa = post), over the pixels read back
     Camera camera;
     bool cameraStarted = false;
     Eigen::Vector3d chaseHeading = Eigen::Vector3d::UnitZ();  // the eased heading the chase camera follows
@@ -67,6 +69,7 @@ struct SceneView::Impl {
     void addVehicleMeshes();
     void addFlagMesh();
     void updateCamera();
+    std::optional<FrameAntiAliasing::Rect> overlayArea() const;
     std::vector<DrawItem> drawList();
 };
 
@@ -78,7 +81,7 @@ void SceneView::Impl::createContext() {
                                             : createOffscreenContext(w, h, &error);
     if (!context) throw ConfigError(scene->file + ": render: " + error);
     try {
-        renderer = std::make_unique<Renderer>(*context, scene->render.shadowMapSize, scene->render.msaa);
+        renderer = std::make_unique<Renderer>(*context, scene->render.shadowMapSize, scene->render.aa, scene->render.msaa);
     } catch (const std::runtime_error& e) {
         throw ConfigError(scene->file + ": render: " + e.what());
     }
@@ -221,6 +224,13 @@ Actions SceneView::pollActions() {
     return a;
 }
 
+std::string SceneView::antiAliasing() const {
+    const AntiAliasing aa = impl_->renderer->antiAliasing();
+    std::string text = aa == AntiAliasing::Msaa ? "msaa " + std::to_string(impl_->scene->render.msaa) : toString(aa);
+    if (impl_->scene->render.aa == AntiAliasing::Auto) text += " (auto on " + impl_->renderer->glRenderer() + ")";
+    return text;
+}
+
 bool SceneView::hasPanel() const {
 #ifdef FLAGSIM_HAS_IMGUI
     return impl_->panel != nullptr;
@@ -337,6 +347,17 @@ void SceneView::Impl::drawPanel(const PanelState* state, double frameSeconds) {
 #endif
 }
 
+// The panel's rectangle in the recorded frames (--overlay), which the post pass leaves alone.
+std::optional<FrameAntiAliasing::Rect> SceneView::Impl::overlayArea() const {
+#ifdef FLAGSIM_HAS_IMGUI
+    if (!overlay || !panel) return std::nullopt;
+    const auto& a = panel->area();
+    return FrameAntiAliasing::Rect{int(std::floor(a[0])), int(std::floor(a[1])), int(std::ceil(a[2])), int(std::ceil(a[3]))};
+#else
+    return std::nullopt;
+#endif
+}
+
 void SceneView::renderFrame(Profiler& profiler, const PanelState* panel, double frameSeconds) {
     Impl& m = *impl_;
     {
@@ -356,6 +377,11 @@ void SceneView::renderFrame(Profiler& profiler, const PanelState* panel, double 
         Profiler::Scope scope(profiler, Phase::Readback);
         // A live window without recording has no use for the pixels: skip the readback.
         if (m.readback || !m.context->isWindow()) m.renderer->readPixels(m.pixels);
+    }
+    if (m.renderer->antiAliasing() == AntiAliasing::Post && !m.pixels.empty()) {  // the frame read back
+        Profiler::Scope scope(profiler, Phase::AntiAlias);
+        const std::optional<FrameAntiAliasing::Rect> panel = m.overlayArea();
+        m.frameAa.apply(m.pixels, m.scene->render.width, m.scene->render.height, panel ? &*panel : nullptr);
     }
     if (!m.overlay && m.context->isWindow() && profiler.enabled(Phase::Panel)) {  // the panel on screen only
         Profiler::Scope scope(profiler, Phase::Panel);

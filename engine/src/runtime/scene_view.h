@@ -34,6 +34,8 @@ public:
     // it; a drag or the wheel outside the panel orbits the camera.
     Actions pollActions();
     bool hasPanel() const;
+    // The anti-aliasing that runs ("post", "msaa 4", "off") and why ("auto on llvmpipe").
+    std::string antiAliasing() const;
 
     // Draws the frame and reads it back into pixels() (each timed in its phase). With a panel,
     // `panel` is what it shows: drawn after the readback in a window (the recorded frames stay the

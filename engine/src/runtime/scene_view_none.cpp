@@ -17,6 +17,7 @@ bool SceneView::hasWindow() const { return false; }
 bool SceneView::windowClosed() const { return false; }
 Actions SceneView::pollActions() { return {}; }
 bool SceneView::hasPanel() const { return false; }
+std::string SceneView::antiAliasing() const { return "off"; }
 void SceneView::renderFrame(Profiler&, const PanelState*, double) {}
 PanelRequests SceneView::takeRequests() { return {}; }
 void SceneView::setOrbit(double, double, double) {}

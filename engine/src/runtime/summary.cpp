@@ -14,6 +14,7 @@ bool writeSummary(const std::string& path, const RunFacts& f, const Profiler& pr
     j["scene"] = f.scene;
     j["subsystems"] = f.subsystems;
     j["solver"] = f.solver;
+    j["anti_aliasing"] = f.antiAliasing;
     j["script"] = f.script;
     j["frames"] = f.frames;
     j["resolution"] = {f.width, f.height};

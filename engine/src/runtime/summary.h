@@ -9,7 +9,7 @@
 namespace engine {
 
 struct RunFacts {
-    std::string scene, solver, subsystems, script, stopReason;
+    std::string scene, solver, subsystems, script, stopReason, antiAliasing;
     int frames = 0, width = 0, height = 0;
     double simTime = 0, wallSeconds = 0, maxPinError = 0;
     long long clothSteps = 0;

@@ -101,6 +101,8 @@ void Panel::draw(const PanelState& s, int width, int height, double frameSeconds
     }
     if (!interactive_ || ImGui::CollapsingHeader("Profile and stats", ImGuiTreeNodeFlags_DefaultOpen)) drawGraphs(s);
     if (!error_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error_.c_str());
+    const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+    area_ = {at.x, at.y, at.x + size.x, at.y + size.y};
     ImGui::End();
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());

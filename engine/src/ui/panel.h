@@ -45,8 +45,11 @@ public:
     // The screen rectangle (x0, y0, x1, y1, in pixels from the top left) where the widget with
     // this label was last drawn; tests click there with synthetic events.
     std::optional<std::array<float, 4>> widgetRect(const std::string& label) const;
+    // The panel's own rectangle when it was last drawn (the same units).
+    const std::array<float, 4>& area() const { return area_; }
 
 private:
+    std::array<float, 4> area_{};
     struct History;
     void drawRun(const PanelState& s);
     void drawSolver(const PanelState& s);

@@ -36,6 +36,7 @@ bool Panel::editNumber(const std::string& label, double current,
 // Scene, restart, pause, step, reset, and what is running.
 void Panel::drawRun(const PanelState& s) {
     ImGui::Text("%s   t = %.2f s%s", s.scene.c_str(), s.simTime, s.paused ? "   (paused)" : "");
+    ImGui::TextDisabled("anti-aliasing: %s", s.antiAliasing.c_str());
     if (s.hasFlag) ImGui::TextWrapped("solver %s", s.solver.describe().c_str());
     if (!interactive_) return;
     if (s.switchNote.empty()) {

@@ -15,6 +15,7 @@ namespace engine {
 // What the panel shows this frame; the runtime fills it.
 struct PanelState {
     std::string scene;
+    std::string antiAliasing;         // what runs ("post (auto on llvmpipe ...)")
     std::vector<std::string> scenes;  // the scenes to switch to
     std::string switchNote;           // non-empty: switching and restarting are off, and why
     bool hasFlag = false, hasAir = false;

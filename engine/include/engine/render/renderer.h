@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/mesh.h"
+#include "engine/render/anti_aliasing.h"
 #include "engine/render/gl_context.h"
 
 namespace engine {
@@ -45,9 +46,9 @@ class Renderer {
 public:
     // The context must be current. Throws std::runtime_error when GL functions are missing or a
     // shader does not compile (the message carries the compiler's log).
-    // msaaSamples > 1: the main pass is multisampled (clamped to what the context offers; none,
-    // with a note, when it offers none).
-    Renderer(GLContext& context, int shadowMapSize, int msaaSamples = 0);
+    // Msaa: the main pass has msaaSamples samples (clamped to what the context offers; none, with
+    // a note, when it offers none; none when msaaSamples < 2).
+    Renderer(GLContext& context, int shadowMapSize, AntiAliasing aa = AntiAliasing::Off, int msaaSamples = 4);
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
@@ -60,6 +61,10 @@ public:
     void updateDynamicMesh(int mesh, const std::vector<float>& positions, const std::vector<float>& normals);
 
     void render(const Camera& camera, const Lighting& lighting, const std::vector<DrawItem>& items);
+    // What runs (Auto resolved): Off, Msaa or Post (the main pass as with Off; the caller runs the
+    // pass over the frame it reads back, frame_aa.h); and the context's GL_RENDERER.
+    AntiAliasing antiAliasing() const;
+    const std::string& glRenderer() const;
     // The frame just rendered, RGBA8, rows top-down.
     void readPixels(std::vector<std::uint8_t>& rgba);
 
