@@ -32,9 +32,15 @@ public:
     // not blended, and it is not blended into the scene around it).
     void apply(std::vector<std::uint8_t>& rgba, int width, int height, const Rect* keep = nullptr);
 
+    // A pixel's new colour, applied once every pixel has been read.
+    struct Change {
+        std::uint32_t pixel;
+        std::uint8_t rgb[3];
+    };
+
 private:
     std::vector<float> luma_;
-    std::vector<std::uint8_t> source_;
+    std::vector<std::vector<Change>> changes_{2};  // per thread
 };
 
 }  // namespace engine
