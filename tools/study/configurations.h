@@ -29,8 +29,9 @@ struct Configuration {
     bool springsOnly = false; // a reference: the springs alone, without the flag's constraints
     bool shipped = false;     // the flag's scene as it ships: its solver, constraints, substeps, rate
     std::vector<FlagKind> flags = {FlagKind::Demo, FlagKind::Stiff};
+    int maxSide = 0;          // > 0: not above this side (its cost there is many frames per frame)
 
-    bool runsOn(FlagKind flag) const;
+    bool runsOn(FlagKind flag, int side) const;
 };
 
 // The study's configurations (--quick: a few), then --add-configs'. An error (for a bad

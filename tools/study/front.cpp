@@ -61,7 +61,8 @@ std::string windowsOf(const ExtremeRun& r) {
 class FrontGroup {
 public:
     FrontGroup(const Flags& flags, const Extreme& x, int size, FlagKind flag, const StudyOptions& o)
-        : flags_(flags), x_(x), size_(size), flag_(flag), trajectories_(o.trajectories), references_(o.references) {}
+        : flags_(flags), x_(x), size_(size), flag_(flag), trajectories_(o.trajectories && size <= o.trajectoryMaxSide),
+          references_(o.references) {}
 
     std::string row(long index, const Configuration& c, const char* timing) {
         const engine::SceneConfig s = sceneOf(c);
@@ -164,7 +165,7 @@ long runFront(const StudyOptions& o, const Flags& flags, const std::vector<FlagK
             for (const FlagKind flag : flagKinds) {
                 FrontGroup group(flags, x, size, flag, o);
                 for (const Configuration& c : configs) {
-                    if (!c.runsOn(flag)) continue;
+                    if (!c.runsOn(flag, size)) continue;
                     ++row;
                     if (work.mine()) csv << group.row(row, c, timing) << std::flush;
                 }

@@ -27,6 +27,9 @@ and in six extreme cases, every configuration against the flag's fine-step refer
   --no-front           no front (front.csv)
   --front-only         only the front
   --no-trajectories    no traj_error in the front (no restarted runs against the references)
+  --trajectories-up-to N
+                       traj_error on flags of up to N per side (default 33: above it each restart
+                       of the reference costs as much again as the row)
   --no-references      no references in the front: no traj_error, ref_* columns or bounds (misses
                        empty), only each configuration's own figures (a quick check of stability)
   --flags LIST         the front's flags: demo, stiff (default both)
@@ -72,6 +75,12 @@ int readValueOption(const std::string& a, const char* value, StudyOptions& o) {
     else if (a == "--add-configs") o.extraConfigs = split(value, ';');
     else if (a == "--demo-scene") o.demoScenePath = value;
     else if (a == "--out") o.out = value;
+    else if (a == "--trajectories-up-to") {
+        std::vector<int> side;
+        if (const std::string bad = readSides(a, value, 5, 257, side); !bad.empty() || side.size() != 1)
+            return usageError(bad.empty() ? a + ": one side" : bad);
+        o.trajectoryMaxSide = side.front();
+    }
     else if (a == "--shard") {
         const std::string v = value;
         if (std::sscanf(v.c_str(), "%d/%d", &o.shard, &o.shards) != 2 || o.shards < 1 || o.shards > 1000 || o.shard < 1 ||

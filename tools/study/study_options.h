@@ -11,6 +11,7 @@ struct StudyOptions {
          references = true;
     int shard = 1, shards = 1;
     std::vector<int> frontSizes;    // default: 33 and 65 (--quick: 33)
+    int trajectoryMaxSide = 33;     // traj_error up to this side (restarted runs against the reference)
     std::vector<int> sizeOverride;  // part 1's sizes instead of its list
     std::string out = "out/study", exportDir, demoScenePath = "flag_vehicle";
     std::vector<std::string> sceneFilter, solverSpecs, configFilter, pathFilter, flagFilter, extraConfigs;

@@ -26,7 +26,7 @@ namespace {
 
 struct SmallStepsSettings {
     int substeps = 0;
-    double fraction = 0.5;
+    double fraction = 1.0;
     int threads = 1;
 };
 
