@@ -5,7 +5,7 @@ stretch outside the teleport's jump; the last column is the median ms per 240 Hz
 cases the configuration ran. A Newton row whose note says "old spin" ran the spin about the
 pole's own axis, which moved no pin: its cell says so instead of a result.
 
-    tools/study/extreme_table.py out/study   (reads extreme.csv and, if present, newton_extreme.csv)
+    tools/study/extreme_table.py out/study   (reads extreme.csv and, if present, nvidia_newton_extreme.csv)
 """
 import csv
 import math
@@ -47,15 +47,15 @@ def main():
     d = sys.argv[1] if len(sys.argv) > 1 else "out/study"
     with open(os.path.join(d, "extreme.csv"), newline="") as f:
         rows = list(csv.DictReader(f))
-    newton = os.path.join(d, "newton_extreme.csv")
-    if os.path.isfile(newton):
-        with open(newton, newline="") as f:
+    nvidia_newton = os.path.join(d, "nvidia_newton_extreme.csv")
+    if os.path.isfile(nvidia_newton):
+        with open(nvidia_newton, newline="") as f:
             rows += list(csv.DictReader(f))
     for size in sorted({int(r["size"]) for r in rows}):
         here = [r for r in rows if int(r["size"]) == size]
         configs = list(dict.fromkeys(r["config"] for r in here))
         print(f"**{size}x{size}** (a cell: stable, p99 stretch / peak stretch outside the teleport's jump; "
-              "the last column: median ms per 240 Hz tick over the cases; newton_*: Warp CPU kernels)\n")
+              "the last column: median ms per 240 Hz tick over the cases; nvidia_newton_*: Warp CPU kernels)\n")
         print("| configuration | " + " | ".join(HEADERS) + " | ms/tick |")
         print("|---" * (len(HEADERS) + 2) + "|")
         for c in configs:

@@ -22,25 +22,70 @@ def num(x):
         return None
 
 
-def main():
-    d = sys.argv[1] if len(sys.argv) > 1 else "out/study"
+def read_rows(d):
+    """error_vs_runtime.csv's rows, and NVIDIA Newton's beside them if the run has them."""
     with open(os.path.join(d, "error_vs_runtime.csv"), newline="") as f:
         rows = list(csv.DictReader(f))
-    newton = os.path.join(d, "newton.csv")  # tools/run study --newton: Newton's solvers (Warp CPU)
-    if os.path.isfile(newton):
-        with open(newton, newline="") as f:
+    nvidia_newton = os.path.join(d, "nvidia_newton.csv")  # tools/run study --nvidia-newton (Warp CPU)
+    if os.path.isfile(nvidia_newton):
+        with open(nvidia_newton, newline="") as f:
             rows += list(csv.DictReader(f))
+    return rows
+
+
+def main_config(r):
+    """The configuration every solver ran at every size (k = 1e4, h = 1/240)."""
+    return float(r["stiffness"]) == 1e4 and abs(float(r["h"]) * 240 - 1) < 1e-4  # h is printed with 6 digits
+
+
+def draw_panel(ax, mine, metric, label, title, colors, families):
+    """One scene and size: each stable run's metric against its ms per step, with the Pareto front;
+    unstable or failed runs listed in the panel."""
+    ax.axis("on")
+    pts, out = [], []
+    for r in mine:
+        ms, err = num(r["ms_per_step"]), num(r[metric])
+        short = r["solver"].split(",substeps=1")[0][:26]
+        if r["stable"] != "1" or ms is None:
+            out.append(short)
+            continue
+        if err is None or err <= 0:
+            continue  # stable, but without this metric (Newton's rows have no trajectory error)
+        pts.append((ms, err))
+        ax.scatter(ms, err, color=colors[r["family"]], s=28, zorder=3,
+                   marker="s" if r["family"].startswith("nvidia_newton_") else "o")
+        ax.annotate(short.split(":", 1)[-1][:22], (ms, err), fontsize=6, alpha=0.7)
+    front, best = [], float("inf")
+    for ms, err in sorted(pts):
+        if err < best:
+            front.append((ms, err))
+            best = err
+    if front:
+        ax.plot(*zip(*front), color="black", linestyle="--", linewidth=1, label="Pareto front", zorder=2)
+    if out:
+        ax.text(0.01, 0.01, "unstable or failed:\n" + "\n".join(sorted(set(out))), transform=ax.transAxes,
+                fontsize=5, va="bottom", ha="left", alpha=0.8)
+    for fam in families:
+        ax.scatter([], [], color=colors[fam], label=fam, marker="s" if fam.startswith("nvidia_newton_") else "o")
+    if pts:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+    else:
+        ax.text(0.5, 0.5, f"no stable run has {metric} here", transform=ax.transAxes, ha="center")
+    ax.set_xlabel("ms per step (median; nvidia_newton_*: Warp CPU kernels)")
+    ax.set_ylabel(label)
+    ax.set_title(title, fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=6, loc="upper right")
+
+
+def plot_error_vs_runtime(rows, d):
+    """Error against run time at k = 1e4, h = 1/240: two rows per scene (trajectory error against
+    converged backward Euler, which Newton's rows do not have; and max stretch, which every row has),
+    one column per size. Unstable or failed runs are listed in the panel, not plotted."""
     families = sorted({r["family"] for r in rows})
     palette = plt.cm.tab10 if len(families) <= 10 else plt.cm.tab20
     colors = {f: palette(i % palette.N) for i, f in enumerate(families)}
-
-    # Error against run time: the configuration every solver ran at every size (k = 1e4, h = 1/240).
-    # Two rows per scene (trajectory error against converged backward Euler, which Newton's rows do
-    # not have; and max stretch, which every row has), one column per size. Unstable or failed runs
-    # are listed in the panel, not plotted.
-    def main_config(r):
-        return float(r["stiffness"]) == 1e4 and abs(float(r["h"]) * 240 - 1) < 1e-4  # h is printed with 6 digits
-
     panels = sorted({(r["scene"], r["size"]) for r in rows if main_config(r)},
                     key=lambda p: (p[0], int(p[1])))
     scenes = sorted({p[0] for p in panels})
@@ -55,46 +100,13 @@ def main():
         mine = [r for r in rows if (r["scene"], r["size"]) == (scene, size) and main_config(r)]
         for m, (metric, label) in enumerate(metrics):
             ax = axes[scenes.index(scene) * len(metrics) + m][sizes.index(int(size))]
-            ax.axis("on")
-            pts, out = [], []
-            for r in mine:
-                ms, err = num(r["ms_per_step"]), num(r[metric])
-                short = r["solver"].split(",substeps=1")[0][:26]
-                if r["stable"] != "1" or ms is None:
-                    out.append(short)
-                    continue
-                if err is None or err <= 0:
-                    continue  # stable, but without this metric (Newton's rows have no trajectory error)
-                pts.append((ms, err))
-                ax.scatter(ms, err, color=colors[r["family"]], s=28, zorder=3,
-                           marker="s" if r["family"].startswith("newton_") else "o")
-                ax.annotate(short.split(":", 1)[-1][:22], (ms, err), fontsize=6, alpha=0.7)
-            front, best = [], float("inf")
-            for ms, err in sorted(pts):
-                if err < best:
-                    front.append((ms, err))
-                    best = err
-            if front:
-                ax.plot(*zip(*front), color="black", linestyle="--", linewidth=1, label="Pareto front", zorder=2)
-            if out:
-                ax.text(0.01, 0.01, "unstable or failed:\n" + "\n".join(sorted(set(out))), transform=ax.transAxes,
-                        fontsize=5, va="bottom", ha="left", alpha=0.8)
-            for fam in families:
-                ax.scatter([], [], color=colors[fam], label=fam, marker="s" if fam.startswith("newton_") else "o")
-            if pts:
-                ax.set_xscale("log")
-                ax.set_yscale("log")
-            else:
-                ax.text(0.5, 0.5, f"no stable run has {metric} here", transform=ax.transAxes, ha="center")
-            ax.set_xlabel("ms per step (median; newton_*: Warp CPU kernels)")
-            ax.set_ylabel(label)
-            ax.set_title(f"{scene} {size}x{size}, k = 1e4 N/m, h = 1/240 s", fontsize=9)
-            ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=6, loc="upper right")
+            draw_panel(ax, mine, metric, label, f"{scene} {size}x{size}, k = 1e4 N/m, h = 1/240 s", colors, families)
     fig.tight_layout()
     fig.savefig(os.path.join(d, "error_vs_runtime.png"), dpi=90)
 
-    # Stability: stiffness against h per solver, coloured by max stretch, blow-ups marked.
+
+def plot_stability(rows, d):
+    """Stiffness against h per solver on the hanging 17x17 flag, coloured by max stretch, blow-ups marked."""
     scan = [r for r in rows if r["scene"] == "hanging_flag" and r["size"] == "17"]
     solvers = sorted({r["solver"] for r in scan})
     cols = 5
@@ -107,7 +119,7 @@ def main():
             k, h = float(r["stiffness"]), float(r["h"])
             if r["stable"] == "1":
                 s = num(r["max_stretch"]) or 0
-                sc = ax.scatter(h, k, c=[min(s, 1.0)], cmap="viridis", vmin=0, vmax=1, s=60)
+                ax.scatter(h, k, c=[min(s, 1.0)], cmap="viridis", vmin=0, vmax=1, s=60)
             else:
                 ax.scatter(h, k, marker="x", color="red", s=60)
         ax.set_xscale("log")
@@ -121,6 +133,13 @@ def main():
     fig.suptitle("Hanging flag 17x17: colour = max stretch (0..1), red x = blew up", fontsize=10)
     fig.tight_layout()
     fig.savefig(os.path.join(d, "stability.png"), dpi=90)
+
+
+def main():
+    d = sys.argv[1] if len(sys.argv) > 1 else "out/study"
+    rows = read_rows(d)
+    plot_error_vs_runtime(rows, d)
+    plot_stability(rows, d)
     print(os.path.join(d, "error_vs_runtime.png"), os.path.join(d, "stability.png"))
 
 

@@ -15,7 +15,7 @@ FAMILIES = {"kangcho", "kangcho_no_eq17", "exact", "desbrun", "cg", "chebyshev",
 SCENES = {"hanging_flag", "vehicle_path"}
 MAIN = ("10000", "0.00416667")  # the stiffness and step of every scene and size of the grid
 MULTIGRID_ROWS = {"multigrid", "multigrid:cycles=1", "multigrid:cycles=2"}
-NEWTON_FAMILIES = {"newton_vbd", "newton_xpbd", "newton_style3d"}
+NVIDIA_NEWTON_FAMILIES = {"nvidia_newton_vbd", "nvidia_newton_xpbd", "nvidia_newton_style3d"}
 EXTREME_COLUMNS = ["ms_per_tick", "max_stretch", "peak_stretch", "p99_stretch", "late_max_stretch"]
 
 
@@ -38,9 +38,9 @@ def check_findings(rows):
     return problems
 
 
-def check_everywhere(rows, newton_rows):
+def check_everywhere(rows, nvidia_newton_rows):
     """Multigrid (adaptive, one and two cycles) and an exact reference at every scene and size of
-    the run; with newton_rows, each of Newton's three solvers too, each row with numbers or with
+    the run; with nvidia_newton_rows, each of NVIDIA Newton's three solvers too, each row with numbers or with
     the reason it has none."""
     problems = []
     places = sorted({(r["scene"], int(r["size"])) for r in rows if (r["stiffness"], r["h"]) == MAIN})
@@ -49,39 +49,40 @@ def check_everywhere(rows, newton_rows):
         missing = sorted(MULTIGRID_ROWS - {r["solver"] for r in here})
         if not any(r["family"] == "exact" for r in here):
             missing.append("an exact reference")
-        if newton_rows is not None:
-            theirs = [r for r in newton_rows if r["scene"] == scene and int(r["size"]) == size]
-            missing += sorted(NEWTON_FAMILIES - {r["family"] for r in theirs})
+        if nvidia_newton_rows is not None:
+            theirs = [r for r in nvidia_newton_rows if r["scene"] == scene and int(r["size"]) == size]
+            missing += sorted(NVIDIA_NEWTON_FAMILIES - {r["family"] for r in theirs})
             for r in theirs:
                 if num(r["max_stretch"]) != num(r["max_stretch"]) and not r.get("note"):
-                    problems.append(f"newton.csv {scene} {size} {r['solver']}: no result and no reason")
+                    problems.append(f"nvidia_newton.csv {scene} {size} {r['solver']}: no result and no reason")
         if missing:
             problems.append(f"{scene} {size}x{size}: no rows for {missing}")
     return problems
 
 
-def check_newton_extremes(d):
-    """newton_extreme.csv: each of Newton's three solvers at every extreme case and size it holds,
-    each row with its cost and stretch or with the reason it has none."""
+def check_nvidia_newton_extremes(d):
+    """nvidia_newton_extreme.csv: each of NVIDIA Newton's three solvers at every extreme case and size
+    it holds, each row with its cost and stretch or with the reason it has none."""
     try:
-        with open(os.path.join(d, "newton_extreme.csv"), newline="") as f:
+        with open(os.path.join(d, "nvidia_newton_extreme.csv"), newline="") as f:
             reader = csv.DictReader(f)
             missing = [c for c in EXTREME_COLUMNS + ["note"] if c not in reader.fieldnames]
             rows = list(reader)
     except OSError as e:
-        return [f"--newton: {e}"]
+        return [f"--nvidia-newton: {e}"]
     if missing:
-        return [f"newton_extreme.csv: missing columns {missing}"]
+        return [f"nvidia_newton_extreme.csv: missing columns {missing}"]
     problems = []
     for case, size in sorted({(r["case"], r["size"]) for r in rows}):
         here = [r for r in rows if (r["case"], r["size"]) == (case, size)]
-        if NEWTON_FAMILIES - {r["config"] for r in here}:
-            problems.append(f"newton_extreme.csv {case} {size}: no rows for {sorted(NEWTON_FAMILIES - {r['config'] for r in here})}")
+        absent = sorted(NVIDIA_NEWTON_FAMILIES - {r["config"] for r in here})
+        if absent:
+            problems.append(f"nvidia_newton_extreme.csv {case} {size}: no rows for {absent}")
         for r in here:
             if num(r["p99_stretch"]) != num(r["p99_stretch"]) and not r["note"]:
-                problems.append(f"newton_extreme.csv {case} {size} {r['solver']}: no result and no reason")
+                problems.append(f"nvidia_newton_extreme.csv {case} {size} {r['solver']}: no result and no reason")
     if not rows:
-        problems.append("newton_extreme.csv: no rows")
+        problems.append("nvidia_newton_extreme.csv: no rows")
     return problems
 
 
@@ -117,9 +118,9 @@ def check_extremes(d):
               f"{size}x{size}; p99 stretch " + ", ".join(f"{r['case']} {float(r['p99_stretch']):.0%}" for r in at))
 
 
-def check_run(d, newton):
+def check_run(d, nvidia_newton):
     """A run's outputs in d: error_vs_runtime.csv's columns, solver families and scenes, the figures,
-    check_findings and check_everywhere (with newton, Newton's CSVs too); exit 1 with the problems,
+    check_findings and check_everywhere (with nvidia_newton, NVIDIA Newton's CSVs too); exit 1 with the problems,
     else print a line and check_extremes."""
     with open(os.path.join(d, "error_vs_runtime.csv"), newline="") as f:
         reader = csv.DictReader(f)
@@ -136,19 +137,20 @@ def check_run(d, newton):
         if not os.path.isfile(os.path.join(d, name)):
             problems.append(f"missing {name}")
     problems += check_findings(rows)
-    newton_rows = None
-    if newton:
+    nvidia_newton_rows = None
+    if nvidia_newton:
         try:
-            with open(os.path.join(d, "newton.csv"), newline="") as f:
-                newton_rows = list(csv.DictReader(f))
+            with open(os.path.join(d, "nvidia_newton.csv"), newline="") as f:
+                nvidia_newton_rows = list(csv.DictReader(f))
         except OSError as e:
-            problems.append(f"--newton: {e}")
-            newton_rows = []
-    problems += check_everywhere(rows, newton_rows)
-    if newton:
-        problems += check_newton_extremes(d)
+            problems.append(f"--nvidia-newton: {e}")
+            nvidia_newton_rows = []
+    problems += check_everywhere(rows, nvidia_newton_rows)
+    if nvidia_newton:
+        problems += check_nvidia_newton_extremes(d)
     if problems:
         sys.exit(f"{d}: " + "; ".join(problems))
     print(f"{d}: {len(rows)} rows, every column, solver family and scene present, multigrid"
-          f"{' and Newton' if newton else ''} at every scene and size{' (and its extreme cases)' if newton else ''}; the findings hold")
+          f"{' and NVIDIA Newton' if nvidia_newton else ''} at every scene and size"
+          f"{' (and its extreme cases)' if nvidia_newton else ''}; the findings hold")
     check_extremes(d)

@@ -1,13 +1,14 @@
 """The findings of docs/study.md's "Findings": part 1 (the solve error at k = 1e4 N/m, h = 1/240 s:
-error_vs_runtime.csv, NVIDIA Newton's nvidia_newton.csv) and the extreme cases (extreme.csv,
-nvidia_newton_extreme.csv and the files of single questions)."""
+error_vs_runtime.csv, nvidia_newton.csv) and the extreme cases (extreme.csv, nvidia_newton_extreme.csv,
+default_candidates_extreme.csv, cloth_rate_extreme.csv, tethers_extreme.csv)."""
 import json
 import os
 
 from checks.common import CASES, DEMO_DEFAULT, ROOT, ext, need, num, one, pct, stable
 
 MAIN_K, MAIN_H = "10000", "0.00416667"
-CSV_KEY = {"stretch_limit": "strain_limit", "stretch_passes": "strain_passes"}  # the constraints' keys as the CSVs name them
+# The stretch limit's keys as the CSVs name them (a scene says stretch_limit, stretch_passes).
+CSV_KEY = {"stretch_limit": "strain_limit", "stretch_passes": "strain_passes"}
 
 
 def evr(docs, scene, size, solver, k=MAIN_K, h=MAIN_H):
@@ -119,14 +120,14 @@ def c_soft_flag_tiny_step_at_bound(docs):
 
 
 def c_newton_solvers_as_documented(docs):
-    rows = docs.rows("newton.csv")
-    sty = [r for r in rows if r["family"] == "newton_style3d"]
+    rows = docs.rows("nvidia_newton.csv")
+    sty = [r for r in rows if r["family"] == "nvidia_newton_style3d"]
     need(len(sty) == 8 and all(stable(r) for r in sty), "Style3D is not stable at every size of both scenes")
-    vbd = {(r["scene"], r["size"]): stable(r) for r in rows if r["family"] == "newton_vbd"}
+    vbd = {(r["scene"], r["size"]): stable(r) for r in rows if r["family"] == "nvidia_newton_vbd"}
     want = {("hanging_flag", "17"): True, ("hanging_flag", "33"): True, ("vehicle_path", "17"): True}
     for key, ok in vbd.items():
-        need(ok == want.get(key, False), f"newton.csv VBD {key}: stable={ok}")
-    xp = [r for r in rows if r["family"] == "newton_xpbd" and r["size"] in ("65", "129")]
+        need(ok == want.get(key, False), f"nvidia_newton.csv VBD {key}: stable={ok}")
+    xp = [r for r in rows if r["family"] == "nvidia_newton_xpbd" and r["size"] in ("65", "129")]
     need(all(not stable(r) and "substeps" in r["note"] for r in xp), "XPBD at 65/129 ran or gave no reason")
     return "Newton: Style3D stable at every size of both scenes; VBD only at 17x17 and the hanging 33x33 flag; XPBD refuses 65 and 129"
 
@@ -188,12 +189,13 @@ def c_stiff_flag_fails_light_particles(docs):
 
 
 def c_newton_nonlinear_holds_gale(docs):
-    rows = docs.rows("newton_extreme.csv")
+    rows = docs.rows("nvidia_newton_extreme.csv")
     worst = 0
-    for cfg in ("newton_xpbd", "newton_style3d"):
+    for cfg in ("nvidia_newton_xpbd", "nvidia_newton_style3d"):
         for n in ("33", "65"):
-            r = one(rows, "newton_extreme.csv", config=cfg, case="gale_40mps", size=n)
-            need(stable(r) and num(r["p99_stretch"]) <= 0.25, f"newton_extreme.csv {cfg} gale {n}: p99 {r['p99_stretch']}")
+            r = one(rows, "nvidia_newton_extreme.csv", config=cfg, case="gale_40mps", size=n)
+            need(stable(r) and num(r["p99_stretch"]) <= 0.25,
+                 f"nvidia_newton_extreme.csv {cfg} gale {n}: p99 {r['p99_stretch']}")
             worst = max(worst, num(r["p99_stretch"]))
     e = ext(docs, "exact", "gale_40mps", 33)
     need(num(e["p99_stretch"]) > 1.5, f"extreme.csv exact gale 33: p99 {e['p99_stretch']}")
@@ -202,7 +204,7 @@ def c_newton_nonlinear_holds_gale(docs):
 
 def c_teleport_rules_out_bounds(docs):
     surv = [r for r in docs.rows("extreme.csv") if r["case"] == "teleport_1m" and stable(r)]
-    surv += [r for r in docs.rows("newton_extreme.csv") if r["case"] == "teleport_1m" and stable(r)]
+    surv += [r for r in docs.rows("nvidia_newton_extreme.csv") if r["case"] == "teleport_1m" and stable(r)]
     lo = min(num(r["p99_stretch"]) for r in surv)
     need(lo >= 0.5, f"a configuration survives the teleport with p99 {lo} (docs: >= 50% for every one)")
     d = [r for r in docs.rows("default_candidates_extreme.csv") if r["config"] == DEMO_DEFAULT and r["case"] == "teleport_1m"]
@@ -292,10 +294,10 @@ def c_spin_as_tabled(docs):
 
 
 def c_newton_spin_marked_old(docs):
-    rows = [r for r in docs.rows("newton_extreme.csv") if r["case"] == "spin_5radps"]
+    rows = [r for r in docs.rows("nvidia_newton_extreme.csv") if r["case"] == "spin_5radps"]
     need(rows and all(r["note"].startswith("old spin") for r in rows),
-         "newton_extreme.csv: a spin row without the note that it ran the old spin about the pole's own axis")
-    return f"newton_extreme.csv: all {len(rows)} spin rows are marked as the old spin (no finding uses them)"
+         "nvidia_newton_extreme.csv: a spin row without the note that it ran the old spin about the pole's own axis")
+    return f"nvidia_newton_extreme.csv: all {len(rows)} spin rows are marked as the old spin (no finding uses them)"
 
 
 def c_default_stable_all_extremes(docs):
