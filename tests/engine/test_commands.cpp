@@ -97,6 +97,53 @@ TEST(Commands, TheRateChangesFromItsFrameOnAndTheTimeRunsOn) {
     EXPECT_NEAR(clock.simTime(), 20.0 / 60, 1e-12);
 }
 
+// A scene without a vehicle records its commands too (the panel's, a script's): the recording
+// holds them at their frames and replays to the same bits; a stiffness change shows it replayed
+// the command, not nothing.
+TEST(Commands, ASceneWithoutAVehicleRecordsItsCommandsAndTheyReplay) {
+    const std::string script = eventsScript("flagsim_cloth_events.json",
+        R"({"frame": 5, "command": "stretch", "value": "500"}, {"frame": 9, "command": "reset"})");
+    const std::string recorded = (std::filesystem::temp_directory_path() / "flagsim_cloth_recorded.json").string();
+    RunOptions o;
+    o.frames = 30;
+    o.scriptPath = script;
+    o.recordInput = recorded;
+    cloth::Points live;
+    {
+        Runtime rt(benchCloth(), o);
+        while (rt.frame()) {
+        }
+        live = rt.flag()->state().x;
+        ASSERT_EQ(rt.finish(), 0);
+    }
+    const InputScript again = InputScript::load(recorded);
+    ASSERT_EQ(again.events().size(), 2u);
+    EXPECT_EQ(again.events()[0].frame, 5);
+    EXPECT_EQ(again.events()[0].command.value, "500");
+    EXPECT_TRUE(runFrames(benchCloth(), 30, recorded) == live);
+    EXPECT_FALSE(runFrames(benchCloth(), 30) == live);
+    std::filesystem::remove(script);
+    std::filesystem::remove(recorded);
+}
+
+// A command the scene cannot take is refused and counted (the panel shows the last one, stderr
+// tells each), and the run goes on as it was.
+TEST(Commands, ACommandTheSceneCannotTakeIsRefusedAndCounted) {
+    SceneConfig s = loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/vehicle_only.json");
+    s.subsystems &= ~(kRender | kRecording);
+    const std::string script = eventsScript("flagsim_refused.json",
+        R"({"frame": 2, "command": "stretch", "value": "500"}, {"frame": 3, "command": "reset"},
+           {"frame": 4, "command": "pause", "value": "on"})");
+    RunOptions o;
+    o.frames = 6;
+    o.scriptPath = script;
+    Runtime rt(s, o);
+    while (rt.frame()) {
+    }
+    EXPECT_EQ(rt.refusals(), 1) << "the stretch: no flag; a reset without a flag does nothing, a pause is taken";
+    std::filesystem::remove(script);
+}
+
 TEST(InputScript, ABadEventNamesTheFileTheFieldAndTheValue) {
     struct Case {
         const char* events;

@@ -123,3 +123,20 @@ TEST(Flag, InjectedNaNIsCaughtReportedAndRecovered) {
     EXPECT_NE(flag.firstFailure().find("step 11"), std::string::npos) << flag.firstFailure();
     EXPECT_TRUE(flag.state().x.allFinite() && flag.state().v.allFinite());
 }
+
+TEST(Flag, ARunawayParticleIsCaughtAsDivergedAndTheFlagRestarts) {
+    // Finite but a kilometre from the pole: no solver calls that non-finite, and the flag must not
+    // go on drawing it; the tick's retry (8x the substeps) starts from the same runaway, so the
+    // flag goes back to rest on the pole.
+    const SceneConfig scene = flagScene(kCloth);
+    RigidFrame carrier;
+    Flag flag(scene, PoleMount{}, carrier);
+    for (int k = 0; k < 10; ++k) flag.tick(1.0 / 240, carrier, {});
+    flag.mutableState().x(0, 40) += 1000;
+    flag.tick(1.0 / 240, carrier, {});
+    EXPECT_EQ(flag.failures(), 2);
+    EXPECT_NE(flag.firstFailure().find("step 11: diverged"), std::string::npos) << flag.firstFailure();
+    const double diagonal = std::hypot(scene.flag.width, scene.flag.height);
+    for (cloth::Index i = 0; i < flag.state().x.cols(); ++i)
+        ASSERT_LT((flag.state().x.col(i) - flag.pins().front().x).norm(), 1.01 * diagonal) << i;
+}

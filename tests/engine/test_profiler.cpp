@@ -76,3 +76,24 @@ TEST(Profiler, EnabledPhasesInFrameOrderAndAbsentOnesNotTimed) {
     EXPECT_EQ(p.lastFrame().frame, p.rows()[0][3]);
     EXPECT_STREQ(phaseName(Phase::ClothForces), "cloth_forces");
 }
+
+// A run without a profile.csv keeps a bounded window of rows: the last ones, in order, however
+// many frames pass; the CSV numbers them from the run's start.
+TEST(Profiler, ARowLimitKeepsTheLastFramesInBoundedMemory) {
+    Profiler p;
+    p.enable(Phase::ClothSolve);
+    p.setRowLimit(3);
+    for (int f = 0; f < 10; ++f) {
+        p.beginFrame();
+        p.add(Phase::ClothSolve, f);
+        p.endFrame();
+    }
+    EXPECT_EQ(p.frameCount(), 10u);
+    ASSERT_GE(p.rows().size(), 3u);
+    ASSERT_LE(p.rows().size(), 6u);
+    for (std::size_t k = 0; k < p.rows().size(); ++k)
+        EXPECT_EQ(p.rows()[k][0], double(10 - p.rows().size() + k));
+    EXPECT_NE(p.summaryTable().find("(the last " + std::to_string(p.rows().size()) + " of 10 frames)"),
+              std::string::npos);
+    EXPECT_EQ(p.summary()[0].max, 9.0);
+}

@@ -165,7 +165,7 @@ TEST(CommandLine, BadOptionsGiveAClearErrorAndANonZeroExit) {
         {{"--solver", "magic"}, "--solver magic: unknown solver 'magic'"},
         {{"--solver", "kangcho:iterations=-2"}, "iterations"},
         {{"--script", "/nonexistent/drive.json", "--frames", "1"}, "/nonexistent/drive.json: cannot open file"},
-        {{"--scene", "bench_cloth", "--record-input", "/tmp/x.json"}, "--record-input: scene 'bench_cloth' has no vehicle"},
+        {{"--aa", "blur"}, "--aa"},
     };
     for (const Case& c : cases) {
         const auto [code, err] = runDemo(c.args);

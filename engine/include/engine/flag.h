@@ -89,6 +89,7 @@ public:
 private:
     void updatePins(const RigidFrame& carrier);
     bool stepOnce(double h, const std::vector<cloth::Collider>& colliders);
+    bool fail(const std::string& what, cloth::Index particle);  // counts a failed step; false
     void traceStep(Trace::Clock::time_point begin, Trace::Clock::time_point end) const;
     void resetToRest(const RigidFrame& carrier);
     void applySettings(const SceneConfig& scene);
@@ -107,6 +108,10 @@ private:
     cloth::AirParams airParams_;
     double thickness_ = 0;
     int substeps_ = 1;
+    // A step that leaves a particle farther from the pole than this many flag diagonals has
+    // diverged (a failure, like a non-finite one).
+    static constexpr double kRunawayReach = 10;
+    double reach_ = 0;
     cloth::Points airForce_;
     std::vector<cloth::Mat3> airJacobian_, airDamping_;
     FlagTimings timings_;

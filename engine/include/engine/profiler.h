@@ -92,7 +92,10 @@ public:
     struct Stats {
         double mean = 0, p50 = 0, p95 = 0, p99 = 0, max = 0;
     };
-    std::size_t frameCount() const { return rows_.size(); }
+    // Keeps the last `frames` rows only, at least (0: every row). A run that writes no profile
+    // keeps its memory bounded this way however long it runs; its summary is of the last rows.
+    void setRowLimit(std::size_t frames) { rowLimit_ = frames; }
+    std::size_t frameCount() const { return framesEnded_; }  // every frame, kept or not
     // Column names: the enabled phases, Bullet's zones, then "frame".
     std::vector<std::string> columns() const;
     std::vector<Stats> summary() const;
@@ -114,6 +117,7 @@ private:
     FrameProfile current_, last_;
     std::vector<double> currentZones_;
     std::vector<std::vector<double>> rows_;  // the enabled phases, the zones, the frame
+    std::size_t rowLimit_ = 0, framesEnded_ = 0;
     Clock::time_point frameStart_;
     struct OpenZone {
         int column;  // in zoneNames_, or -1 (a level that is not a column)

@@ -76,6 +76,10 @@ public:
     const std::string& nextScene() const;
     // Where the panel last drew the widget with this label (tests click there); none without one.
     std::optional<std::array<float, 4>> widgetRect(const std::string& label) const;
+    // The labels of the widgets the panel drew in the last frame (none without a panel).
+    std::vector<std::string> widgetLabels() const;
+    // The commands refused so far (the panel's and the script's; each told on stderr).
+    int refusals() const;
     int frameCount() const;
     double simTime() const;
     const Profiler& profiler() const;

@@ -36,6 +36,15 @@ cloth::Model buildModel(const SceneConfig& scene, const PoleMount& mount) {
     }
 }
 
+// The first particle farther than reach from the anchor, or -1: a runaway step (an unstable
+// solver's growth) caught before its numbers overflow.
+cloth::Index firstRunaway(const cloth::State& state, const Eigen::Vector3d& anchor, double reach) {
+    const double reach2 = reach * reach;
+    for (cloth::Index i = 0; i < state.x.cols(); ++i)
+        if ((state.x.col(i) - anchor).squaredNorm() > reach2) return i;
+    return -1;
+}
+
 }  // namespace
 
 Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier)
@@ -45,6 +54,8 @@ Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& c
     collision_ = scene.subsystems & kCollision;
     thickness_ = scene.flag.thickness;
     substeps_ = scene.flag.substeps;
+    const cloth::Points& rest = model_.restPositions();
+    reach_ = kRunawayReach * (rest.rowwise().maxCoeff() - rest.rowwise().minCoeff()).norm();
     pins_ = cloth::pinColumn(model_);  // column 0 at its rest position: the pole edge in pole space
     // Collisions skip the pinned particles and the sleeve: the pinned column runs down the pole's
     // axis, like a sleeve sewn around it, and particles whose rest position lies inside the pole's
@@ -202,13 +213,7 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
     counts_.iterations += r.iterations;
     counts_.maxIterations = std::max(counts_.maxIterations, r.iterations);
     counts_.linearIterations += r.linearIterations;
-    if (r.status != cloth::StepStatus::Ok) {
-        if (failures_++ == 0)
-            firstFailure_ = "cloth step " + std::to_string(steps_) + ": " +
-                            cloth::toString(r.status) + " (first bad particle " +
-                            std::to_string(r.badParticle) + ")";
-        return false;
-    }
+    if (r.status != cloth::StepStatus::Ok) return fail(cloth::toString(r.status), r.badParticle);
     if (collideHere && !solver_->resolvesCollisions()) {
         stage_ = traceNames_.collision;
         const auto t0 = Clock::now();
@@ -218,7 +223,15 @@ bool Flag::stepOnce(double h, const std::vector<cloth::Collider>& colliders) {
         timings_.collision += Profiler::ms(t1 - t0);
         if (trace_) trace_->complete(traceNames_.collision, Trace::Category::Phase, t0, t1);
     }
+    if (const cloth::Index i = firstRunaway(state_, pins_.front().x, reach_); i >= 0) return fail("diverged", i);
     return true;
+}
+
+bool Flag::fail(const std::string& what, cloth::Index particle) {
+    if (failures_++ == 0)
+        firstFailure_ = "cloth step " + std::to_string(steps_) + ": " + what + " (first bad particle " +
+                        std::to_string(particle) + ")";
+    return false;
 }
 
 void Flag::tick(double h, const RigidFrame& carrier, const std::vector<cloth::Collider>& colliders) {

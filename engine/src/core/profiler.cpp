@@ -57,8 +57,11 @@ void Profiler::endFrame() {
     row.insert(row.end(), currentZones_.begin(), currentZones_.end());
     row.push_back(current_.frame);
     if (trace_)
-        trace_->complete(traceFrameName_, Trace::Category::Frame, frameStart_, end, static_cast<int>(rows_.size()));
+        trace_->complete(traceFrameName_, Trace::Category::Frame, frameStart_, end, static_cast<int>(framesEnded_));
+    // Past twice the limit, the oldest half goes: the rows stay within 2x the limit (its capacity).
+    if (rowLimit_ > 0 && rows_.size() >= 2 * rowLimit_) rows_.erase(rows_.begin(), rows_.begin() + rowLimit_);
     rows_.push_back(std::move(row));
+    ++framesEnded_;
     last_ = current_;
 }
 
@@ -124,8 +127,9 @@ bool Profiler::writeCsv(const std::string& path, std::string* error) const {
     for (const auto& c : columns()) out << "," << c;
     out << "\n";
     char buf[32];
+    const std::size_t first = framesEnded_ - rows_.size();  // the rows a limit let go came first
     for (std::size_t f = 0; f < rows_.size(); ++f) {
-        out << f;
+        out << first + f;
         const auto& row = rows_[f];
         for (std::size_t c = 0; c < columns_.size() + zoneNames_.size(); ++c) {
             std::snprintf(buf, sizeof buf, ",%.4f", c < row.size() - 1 ? row[c] : 0.0);
@@ -150,6 +154,7 @@ std::string Profiler::summaryTable() const {
                       stats[c].mean, stats[c].p50, stats[c].p95, stats[c].p99, stats[c].max);
         s << line;
     }
+    if (rows_.size() < framesEnded_) s << "(the last " << rows_.size() << " of " << framesEnded_ << " frames)\n";
     return s.str();
 }
 

@@ -15,8 +15,7 @@ class SdlWindowContext final : public GLContext {
 public:
     SdlWindowContext(int w, int h, SDL_Window* window, SDL_GLContext gl)
         : GLContext(w, h), window_(window), gl_(gl) {
-        for (int i = 0; i < SDL_NumJoysticks() && !pad_; ++i)
-            if (SDL_IsGameController(i)) pad_ = SDL_GameControllerOpen(i);
+        openPad();
     }
     ~SdlWindowContext() override {
         if (pad_) SDL_GameControllerClose(pad_);
@@ -40,6 +39,12 @@ public:
             if (e.type == SDL_KEYDOWN && e.key.keysym.sym == SDLK_ESCAPE) open = false;
             if (e.type == SDL_KEYDOWN) held_[e.key.keysym.scancode] = true;
             if (e.type == SDL_CONTROLLERDEVICEADDED && !pad_) pad_ = SDL_GameControllerOpen(e.cdevice.which);
+            if (e.type == SDL_CONTROLLERDEVICEREMOVED && pad_ &&
+                e.cdevice.which == SDL_JoystickInstanceID(SDL_GameControllerGetJoystick(pad_))) {
+                SDL_GameControllerClose(pad_);  // pulled out: the next one plugged in, if any
+                pad_ = nullptr;
+                openPad();
+            }
         }
         auto key = [this](SDL_Scancode x, SDL_Scancode y) { return (held_[x] || held_[y]) ? 1.0 : 0.0; };
         a.throttle = key(SDL_SCANCODE_UP, SDL_SCANCODE_W);
@@ -62,6 +67,11 @@ public:
     }
 
 private:
+    void openPad() {
+        for (int i = 0; i < SDL_NumJoysticks() && !pad_; ++i)
+            if (SDL_IsGameController(i)) pad_ = SDL_GameControllerOpen(i);
+    }
+
     SDL_Window* window_;
     SDL_GLContext gl_;
     SDL_GameController* pad_ = nullptr;

@@ -19,6 +19,7 @@ void Runtime::Impl::applyCommands() {
         commands.insert(commands.end(), r.commands.begin(), r.commands.end());
         if (!r.scene.empty()) nextScene = resolveScenePath(r.scene, opt.assetsDir);
         if (r.restart) nextScene = scene.file;
+        for (const std::string& why : r.refusals) refuse(why);
     }
     for (const Command& c : commands) {
         apply(c);
@@ -50,10 +51,7 @@ void changeFlagSettings(SceneConfig& s, const Command& c) {
 // without a flag) is refused with a message, and the run goes on as it was, in a replay too.
 void Runtime::Impl::apply(const Command& c) {
     const std::string why = checkCommand(c);
-    if (!why.empty()) {
-        std::fprintf(stderr, "flagsim: frame %d: %s\n", frame, why.c_str());
-        return;
-    }
+    if (!why.empty()) return refuse(why);
     if (c.name == "pause") {
         paused = c.value == "on";
         if (!paused) clock->startWall();  // the paused wall time is not owed as ticks
@@ -74,13 +72,18 @@ void Runtime::Impl::apply(const Command& c) {
             flag->reconfigure(next);
             scene = next;
         } catch (const ConfigError& e) {
-            std::fprintf(stderr, "flagsim: frame %d: command %s %s refused: %s\n", frame, c.name.c_str(),
-                         c.value.c_str(), e.what());
+            refuse("command " + c.name + " " + c.value + " refused: " + e.what());
         }
     } else {
-        std::fprintf(stderr, "flagsim: frame %d: command %s: scene '%s' has no flag\n", frame, c.name.c_str(),
-                     scene.name.c_str());
+        refuse("command " + c.name + ": scene '" + scene.name + "' has no flag");
     }
+}
+
+// A refused command leaves the run as it was; the user sees why on stderr and in the panel.
+void Runtime::Impl::refuse(const std::string& why) {
+    std::fprintf(stderr, "flagsim: frame %d: %s\n", frame, why.c_str());
+    ++refusals;
+    lastRefusal = why;
 }
 
 // The ticks this frame runs: the schedule's, none while paused, one for a single step (after
@@ -105,6 +108,7 @@ std::vector<std::string> sceneNames(const std::string& assetsDir) {
 PanelState Runtime::Impl::panelState() const {
     PanelState s;
     s.scene = scene.name;
+    s.refusal = lastRefusal;
     s.antiAliasing = view ? view->antiAliasing() : "off";
     s.scenes = scenes;
     if (recorder || recording) s.switchNote = "recording: one run of one scene (no switching)";

@@ -140,6 +140,10 @@ const std::string& Runtime::nextScene() const { return impl_->nextScene; }
 std::optional<std::array<float, 4>> Runtime::widgetRect(const std::string& label) const {
     return impl_->view ? impl_->view->widgetRect(label) : std::nullopt;
 }
+std::vector<std::string> Runtime::widgetLabels() const {
+    return impl_->view ? impl_->view->widgetLabels() : std::vector<std::string>{};
+}
+int Runtime::refusals() const { return impl_->refusals; }
 int Runtime::frameCount() const { return impl_->frames; }
 double Runtime::simTime() const { return impl_->clock->simTime(); }
 const Profiler& Runtime::profiler() const { return impl_->profiler; }

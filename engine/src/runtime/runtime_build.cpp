@@ -85,8 +85,6 @@ void Runtime::Impl::applyOptions() {
                      s.name.c_str(), options.outDir.empty() ? "(no --out)" : options.outDir.c_str());
     if (options.outDir.empty()) s.subsystems &= ~kRecording;
     if (options.noFrames && !options.video) s.subsystems &= ~kRecording;
-    if (!options.recordInput.empty() && !(s.subsystems & kVehicle))
-        throw ConfigError("--record-input: scene '" + s.name + "' has no vehicle to drive");
 }
 
 // Sets the frame count and the tick clock: whether the run advances in lockstep.
@@ -124,14 +122,13 @@ void Runtime::Impl::enablePhases() {
     if (subsystems & kRecording) p.enable(Phase::Write);
 }
 
-// Builds the vehicle and its input: a script, the keyboard, and a recorder if asked for.
+// Builds the vehicle and its input: a script or the keyboard.
 void Runtime::Impl::buildVehicle() {
     const SceneConfig& s = scene;
     const std::string scriptPath = opt.scriptPath.empty() ? s.script : opt.scriptPath;
     // In a window the keyboard drives unless a script is named on the command line.
     const bool live = (s.subsystems & kWindow) && opt.scriptPath.empty();
     if (!scriptPath.empty() && !live) script = InputScript::load(scriptPath);
-    if (!opt.recordInput.empty()) recorder.emplace();
     vehicle = std::make_unique<VehicleSystem>(s, &profiler);
 }
 
@@ -176,6 +173,7 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     m.applyOptions();
     // Output folder: never silently overwritten.
     if (!options.outDir.empty()) prepareOutDir(options);
+    else m.profiler.setRowLimit(kLiveProfileRows);  // no profile.csv: memory bounded in a long session
     if (!options.tracePath.empty()) {
         checkTracePath(options.tracePath);
         m.trace = std::make_unique<Trace>();
@@ -183,6 +181,7 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
     }
     m.planFrames();
     m.enablePhases();
+    if (!options.recordInput.empty()) m.recorder.emplace();  // the actions (with a vehicle) and the commands
     if (m.scene.subsystems & kVehicle) m.buildVehicle();
     else if (!options.scriptPath.empty()) m.script = InputScript::load(options.scriptPath);  // its events
     if (m.scene.subsystems & kCloth) m.buildFlag();

@@ -25,6 +25,9 @@ namespace engine {
 
 using Clock = std::chrono::steady_clock;
 
+// A run that writes no profile keeps this many frames of it at least (a minute at 60 Hz).
+inline constexpr std::size_t kLiveProfileRows = 3600;
+
 struct Runtime::Impl {
     SceneConfig scene;
     RunOptions opt;
@@ -54,6 +57,8 @@ struct Runtime::Impl {
     Clock::time_point nextFrame = Clock::now();
     double maxPinError = 0;
     std::string stopReason = "completed";
+    int refusals = 0;           // commands refused so far (the panel's and the script's)
+    std::string lastRefusal;    // the last one, and why (the panel shows it)
     Clock::time_point start = Clock::now();
 
     RigidFrame carrier() const { return vehicle ? vehicle->carrier() : fixedCarrier; }
@@ -62,6 +67,7 @@ struct Runtime::Impl {
     // applied and recorded, and what the panel shows.
     void applyCommands();
     void apply(const Command& command);
+    void refuse(const std::string& why);
     PanelState panelState() const;
     // The frame loop (frame_loop.cpp).
     std::string stopBefore() const;

@@ -267,6 +267,13 @@ std::optional<std::array<float, 4>> SceneView::widgetRect(const std::string& lab
     return std::nullopt;
 }
 
+std::vector<std::string> SceneView::widgetLabels() const {
+#ifdef FLAGSIM_HAS_IMGUI
+    if (impl_->panel) return impl_->panel->widgetLabels();
+#endif
+    return {};
+}
+
 // The eye turned about the target by the orbit: yaw about the vertical, pitch up, the distance
 // scaled by zoom.
 Camera SceneView::Impl::orbited() const {

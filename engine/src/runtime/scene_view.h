@@ -49,6 +49,7 @@ public:
     // The camera command's orbit (yaw and pitch in degrees, zoom a distance factor).
     void setOrbit(double yawDeg, double pitchDeg, double zoom);
     std::optional<std::array<float, 4>> widgetRect(const std::string& label) const;
+    std::vector<std::string> widgetLabels() const;  // the panel's widgets in the last frame
 
 private:
     struct Impl;

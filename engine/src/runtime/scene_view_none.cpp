@@ -22,6 +22,7 @@ void SceneView::renderFrame(Profiler&, const PanelState*, double) {}
 PanelRequests SceneView::takeRequests() { return {}; }
 void SceneView::setOrbit(double, double, double) {}
 std::optional<std::array<float, 4>> SceneView::widgetRect(const std::string&) const { return std::nullopt; }
+std::vector<std::string> SceneView::widgetLabels() const { return {}; }
 const std::vector<std::uint8_t>& SceneView::pixels() const {
     static const std::vector<std::uint8_t> none;
     return none;

@@ -67,6 +67,12 @@ std::optional<std::array<float, 4>> Panel::widgetRect(const std::string& label) 
     return it->second;
 }
 
+std::vector<std::string> Panel::widgetLabels() const {
+    std::vector<std::string> labels;
+    for (const auto& [label, rect] : rects_) labels.push_back(label);
+    return labels;
+}
+
 void Panel::remember(const std::string& label) {
     const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
     rects_[label] = {a.x, a.y, b.x, b.y};
@@ -94,13 +100,20 @@ void Panel::draw(const PanelState& s, int width, int height, double frameSeconds
     const ImGuiWindowFlags flags = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
                                    (interactive_ ? 0 : ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_NoTitleBar);
     ImGui::Begin("flagsim", nullptr, flags);
+    rects_.clear();  // the widgets of this frame only
     drawRun(s);
+    auto header = [this](const char* title, ImGuiTreeNodeFlags open) {
+        const bool shown = ImGui::CollapsingHeader(title, open);
+        remember(std::string("header ") + title);
+        return shown;
+    };
     if (interactive_ && s.hasFlag) {
-        if (ImGui::CollapsingHeader("Solver", ImGuiTreeNodeFlags_DefaultOpen)) drawSolver(s);
-        if (ImGui::CollapsingHeader("Flag and air")) drawFlag(s);
+        if (header("Solver", ImGuiTreeNodeFlags_DefaultOpen)) drawSolver(s);
+        if (header("Flag and air", 0)) drawFlag(s);
     }
-    if (!interactive_ || ImGui::CollapsingHeader("Profile and stats", ImGuiTreeNodeFlags_DefaultOpen)) drawGraphs(s);
-    if (!error_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error_.c_str());
+    if (!interactive_ || header("Profile and stats", ImGuiTreeNodeFlags_DefaultOpen)) drawGraphs(s);
+    const std::string& refusal = !error_.empty() ? error_ : s.refusal;
+    if (!refusal.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", refusal.c_str());
     const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
     area_ = {at.x, at.y, at.x + size.x, at.y + size.y};
     ImGui::End();

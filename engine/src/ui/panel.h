@@ -45,6 +45,8 @@ public:
     // The screen rectangle (x0, y0, x1, y1, in pixels from the top left) where the widget with
     // this label was last drawn; tests click there with synthetic events.
     std::optional<std::array<float, 4>> widgetRect(const std::string& label) const;
+    // The labels of the widgets drawn in the last frame (widgetRect finds each).
+    std::vector<std::string> widgetLabels() const;
     // The panel's own rectangle when it was last drawn (the same units).
     const std::array<float, 4>& area() const { return area_; }
 
@@ -57,6 +59,11 @@ private:
     void drawFlag(const PanelState& s);
     void drawGraphs(const PanelState& s);
     void emit(Command c) { requests_.commands.push_back(std::move(c)); }
+    // Shows why the panel does not ask for what was entered, and tells the runtime (stderr).
+    void refuse(const std::string& why) {
+        error_ = why;
+        requests_.refusals.push_back(why);
+    }
     void emitSolver(const cloth::SolverConfig& config);
     void remember(const std::string& label);
     // A number in a widget: shown from the scene while not held, kept while the user edits it;

@@ -83,7 +83,7 @@ void Panel::drawSolver(const PanelState& s) {
                 config.compressionRule = s.solver.compressionRule;
                 emitSolver(config);
             } else {
-                error_ = error;
+                refuse(error);
             }
         }
         remember("solver " + kind);
@@ -116,7 +116,7 @@ void Panel::drawSolverKey(const PanelState& s, const cloth::SolverKeyInfo& key) 
     cloth::SolverConfig config = s.solver;
     std::string error;
     if (cloth::setSolverParameter(config, key.name, text, &error)) emitSolver(config);
-    else error_ = error;
+    else refuse(error);
 }
 
 // Stiffness, mass, wind, air density and the physics rate, each applied when its edit ends.

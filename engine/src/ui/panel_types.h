@@ -32,11 +32,13 @@ struct PanelState {
     std::vector<std::string> phases;
     std::vector<double> phaseMs;
     double p99Stretch = 0, maxStretch = 0, iterationsPerStep = 0;
+    std::string refusal;  // the last command refused, and why (empty: none)
 };
 
 // What the user asked for in the last frame.
 struct PanelRequests {
     std::vector<Command> commands;
+    std::vector<std::string> refusals;  // what the panel refused to ask for, and why
     std::string scene;  // switch to this scene (empty: stay)
     bool restart = false;
 };
