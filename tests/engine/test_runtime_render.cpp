@@ -5,6 +5,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "engine/render/gl_context.h"
+#include "engine/render/renderer.h"
 #include "engine/runtime.h"
 
 using namespace engine;
@@ -188,4 +190,21 @@ TEST(RuntimeRender, TheOverlayIsInItsOwnPhaseAndOnlyInThePanelsCorner) {
         }
     EXPECT_GT(inside, 20000u) << "the panel is not in the frame";
     EXPECT_EQ(outside, 0u) << "the overlay drew outside its corner";
+}
+
+// The post pass's frame, shown in a window, goes back into framebuffer 0 as it was made: a frame
+// uploaded and read back again is the same, rows in the same order (a lost flip would mirror it).
+TEST(Renderer, AFrameShownIsTheFrameReadBack) {
+    std::string error;
+    std::unique_ptr<GLContext> context = createOffscreenContext(64, 48, &error);
+    ASSERT_TRUE(context) << error;
+    Renderer renderer(*context, 256);
+    std::vector<std::uint8_t> frame(64 * 48 * 4);
+    for (std::size_t i = 0; i < frame.size(); ++i) frame[i] = std::uint8_t((i * 7 + i / 256) % 251);
+    for (std::size_t i = 3; i < frame.size(); i += 4) frame[i] = 255;  // opaque: the buffer keeps alpha
+    renderer.showPixels(frame);
+    std::vector<std::uint8_t> back;
+    renderer.readPixels(back);
+    ASSERT_EQ(back.size(), frame.size());
+    EXPECT_TRUE(back == frame);
 }

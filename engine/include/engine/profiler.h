@@ -24,9 +24,9 @@ enum class Phase {
     ClothSolve,   // the solver's solve, integration and the cloth's constraints    [cloth]
     Collision,    // the flag against the pole, the vehicle and the ground          [collision]
     Render,       // the scene drawn                                                [render]
+    Overlay,      // the panel drawn into the recorded frames                       [--overlay]
     Readback,     // glFinish and the pixels read back                              [render]
     AntiAlias,    // the post pass over the pixels read back                        [render.aa = post]
-    Overlay,      // the panel drawn into the recorded frames                       [--overlay]
     Panel,        // the panel drawn on screen only                                 [window]
     Write,        // the frame handed to the PNG and video writers                  [recording]
 };

@@ -33,6 +33,7 @@ namespace engine::gl {
     X(PFNGLUNIFORM3FVPROC, Uniform3fv) X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)       \
     X(PFNGLGENTEXTURESPROC, GenTextures) X(PFNGLBINDTEXTUREPROC, BindTexture)               \
     X(PFNGLTEXIMAGE2DPROC, TexImage2D) X(PFNGLTEXPARAMETERIPROC, TexParameteri)             \
+    X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                                                \
     X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap) X(PFNGLACTIVETEXTUREPROC, ActiveTexture)     \
     X(PFNGLDELETETEXTURESPROC, DeleteTextures) X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers) \
     X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                            \

@@ -6,6 +6,7 @@
 
 #include "render/gl_api.h"
 #include "render/msaa_target.h"
+#include "render/frame_upload.h"
 
 namespace engine {
 
@@ -145,6 +146,7 @@ struct Renderer::Impl {
     int shadowSize = 0;
     std::unique_ptr<MsaaTarget> msaa;  // null: the main pass draws straight into framebuffer 0
     bool post = false;                 // the frame read back gets the post pass (frame_aa.h)
+    FrameUpload shown;                 // in a window, the post pass's frame put back on screen
     std::string glRenderer;
     void chooseAntiAliasing(const GLContext& context, AntiAliasing aa, int samples);
     struct Mesh {
@@ -442,6 +444,10 @@ void Renderer::readPixels(std::vector<std::uint8_t>& rgba) {
         std::copy(b, b + row, a);
         std::copy(tmp.data(), tmp.data() + row, b);
     }
+}
+
+void Renderer::showPixels(const std::vector<std::uint8_t>& rgba) {
+    impl_->shown.show(impl_->gl, rgba, impl_->context->width(), impl_->context->height());
 }
 
 void computeSmoothNormals(const std::vector<float>& positions, const std::vector<std::uint32_t>& indices,

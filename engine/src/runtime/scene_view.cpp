@@ -376,19 +376,22 @@ void SceneView::renderFrame(Profiler& profiler, const PanelState* panel, double 
         light.shadowExtent = 18;
         m.renderer->render(m.orbited(), light, m.drawList());
     }
+    const bool post = m.renderer->antiAliasing() == AntiAliasing::Post;
     if (m.overlay) {  // the panel into the recorded frames
         Profiler::Scope scope(profiler, Phase::Overlay);
         m.drawPanel(panel, frameSeconds);
     }
     {
         Profiler::Scope scope(profiler, Phase::Readback);
-        // A live window without recording has no use for the pixels: skip the readback.
-        if (m.readback || !m.context->isWindow()) m.renderer->readPixels(m.pixels);
+        // A live window without recording has no use for the pixels, unless the post pass
+        // needs them: skip the readback.
+        if (m.readback || !m.context->isWindow() || post) m.renderer->readPixels(m.pixels);
     }
-    if (m.renderer->antiAliasing() == AntiAliasing::Post && !m.pixels.empty()) {  // the frame read back
+    if (post) {  // the frame read back; a window shows the result
         Profiler::Scope scope(profiler, Phase::AntiAlias);
         const std::optional<FrameAntiAliasing::Rect> panel = m.overlayArea();
         m.frameAa.apply(m.pixels, m.scene->render.width, m.scene->render.height, panel ? &*panel : nullptr);
+        if (m.context->isWindow()) m.renderer->showPixels(m.pixels);
     }
     if (!m.overlay && m.context->isWindow() && profiler.enabled(Phase::Panel)) {  // the panel on screen only
         Profiler::Scope scope(profiler, Phase::Panel);

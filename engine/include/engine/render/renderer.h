@@ -67,6 +67,8 @@ public:
     const std::string& glRenderer() const;
     // The frame just rendered, RGBA8, rows top-down.
     void readPixels(std::vector<std::uint8_t>& rgba);
+    // A frame in that form (the post pass's) drawn over framebuffer 0: a window shows it.
+    void showPixels(const std::vector<std::uint8_t>& rgba);
 
 private:
     struct Impl;
