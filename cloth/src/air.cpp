@@ -55,29 +55,29 @@ CLOTH_IVDEP
     }
 }
 
-// One triangle's share of -dF/dv (zero for a degenerate triangle or no relative air).
+// One triangle's share of -dF/dv (zero for a degenerate triangle or no relative air). With n fixed
+// (it depends on x only), ds/dw = w^T / s and d(wn)/dw = n^T, the three terms' derivative is
+//   dF/dw = a n n^T + b n w^T + c w n^T + d w w^T + e I
+// with a = s (c_d - c_f + c_l), b = (c_d - c_f + c_l) wn / s, c = -2 c_l wn / s,
+// d = c_f / s + c_l wn^2 / s^3, e = c_f s - c_l wn^2 / s; and f_i = F / 3, dw/dv_i = -I / 3.
 Mat3 triangleBlock(const State& state, const Triangle& t, const Vec3& wind, const AirParams& air,
                    Scalar quarterRho) {
-    const Vec3 a = state.x.col(t[0]), b = state.x.col(t[1]), c = state.x.col(t[2]);
-    const Vec3 N = (b - a).cross(c - a);
+    const Vec3 p0 = state.x.col(t[0]), p1 = state.x.col(t[1]), p2 = state.x.col(t[2]);
+    const Vec3 N = (p1 - p0).cross(p2 - p0);
     const Vec3 w = wind - (state.v.col(t[0]) + state.v.col(t[1]) + state.v.col(t[2])) / 3;
     const Scalar twiceArea = N.norm(), s = w.norm();
     if (twiceArea < 1e-14 || s < 1e-9) return Mat3::Zero();
-    // dF/dw with n fixed (n depends on x only): ds/dw = w^T / s, d(wn)/dw = n^T.
-    const Scalar halfRho = 2 * quarterRho, area = Scalar(0.5) * twiceArea;
-    const Scalar cd = halfRho * area * air.dragCoefficient;
-    const Scalar cf = halfRho * area * air.frictionCoefficient;
-    const Scalar cl = halfRho * area * air.liftCoefficient;
-    const Vec3 nHat = N / twiceArea;
-    const Scalar wn = w.dot(nHat);
-    const Vec3 tangential = w - wn * nHat;
-    const Mat3 I = Mat3::Identity(), nn = nHat * nHat.transpose(), nw = nHat * w.transpose();
-    const Mat3 dDrag = cd * ((wn / s) * nw + s * nn);
-    const Mat3 dFriction = cf * (tangential * w.transpose() / s + s * (I - nn));
-    const Mat3 dLift = cl * (s * nn + (wn / s) * nw - (2 * wn / s) * nw.transpose() +
-                             (wn * wn / (s * s * s)) * (w * w.transpose()) - (wn * wn / s) * I);
-    // f_i = F / 3 and dw/dv_i = -I / 3.
-    return -(dDrag + dFriction + dLift) / 9;
+    const Scalar c0 = quarterRho * twiceArea;  // 1/2 rho A
+    const Scalar cd = c0 * air.dragCoefficient, cf = c0 * air.frictionCoefficient, cl = c0 * air.liftCoefficient;
+    const Vec3 n = N / twiceArea;
+    const Scalar wn = w.dot(n), normal = cd - cf + cl;
+    const Scalar a = s * normal, b = normal * wn / s, c = -2 * cl * wn / s;
+    const Scalar d = cf / s + cl * wn * wn / (s * s * s), e = cf * s - cl * wn * wn / s;
+    Mat3 m;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            m(i, j) = -(a * n[i] * n[j] + b * n[i] * w[j] + c * w[i] * n[j] + d * w[i] * w[j] + (i == j ? e : 0)) / 9;
+    return m;
 }
 
 // A loop over [0, size) on the pool's threads when it has more than one, else here.
@@ -143,12 +143,68 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
     });
 }
 
-Mat3 dampingBlock(const Mat3& dfdv) {
-    const Mat3 sym = Scalar(-0.5) * (dfdv + dfdv.transpose());
+namespace {
+
+// The eigen-decomposition's answer for the cases the closed form leaves (a repeated eigenvalue).
+Mat3 projectByEigenvectors(const Mat3& sym) {
     Eigen::SelfAdjointEigenSolver<Mat3> eig;
     eig.computeDirect(sym);
     const Vec3 lambda = eig.eigenvalues().cwiseMax(Scalar(0));
     return eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+// A unit vector m x = 0 for m = a - lambda I of rank 2: the longest cross product of two rows;
+// false when every one is too short to trust (rank below 2: a repeated eigenvalue).
+bool nullVector(const Mat3& a, Scalar lambda, Vec3& out) {
+    const Scalar m00 = a(0, 0) - lambda, m11 = a(1, 1) - lambda, m22 = a(2, 2) - lambda;
+    const Scalar m01 = a(0, 1), m02 = a(0, 2), m12 = a(1, 2);
+    // The rows' cross products (the matrix is symmetric): r0 x r1, r0 x r2, r1 x r2.
+    const Vec3 c[3] = {Vec3(m01 * m12 - m02 * m11, m02 * m01 - m00 * m12, m00 * m11 - m01 * m01),
+                       Vec3(m01 * m22 - m02 * m12, m02 * m02 - m00 * m22, m00 * m12 - m01 * m02),
+                       Vec3(m11 * m22 - m12 * m12, m12 * m02 - m01 * m22, m01 * m12 - m11 * m02)};
+    Scalar length[3] = {c[0].squaredNorm(), c[1].squaredNorm(), c[2].squaredNorm()};
+    const int best = length[0] >= length[1] ? (length[0] >= length[2] ? 0 : 2) : (length[1] >= length[2] ? 1 : 2);
+    const Scalar scale = m00 * m00 + m11 * m11 + m22 * m22 + 2 * (m01 * m01 + m02 * m02 + m12 * m12);
+    if (!(length[best] > Scalar(1e-18) * scale * scale)) return false;
+    out = c[best] / std::sqrt(length[best]);
+    return true;
+}
+
+}  // namespace
+
+// The eigenvalues of a symmetric 3x3, largest first, by the trigonometric solution of its
+// characteristic polynomial (one arc cosine and two cosines).
+Vec3 eigenvaluesOf(const Mat3& a) {
+    const Scalar q = a.trace() / 3;
+    const Scalar off = a(0, 1) * a(0, 1) + a(0, 2) * a(0, 2) + a(1, 2) * a(1, 2);
+    const Scalar p2 = ((a(0, 0) - q) * (a(0, 0) - q) + (a(1, 1) - q) * (a(1, 1) - q) + (a(2, 2) - q) * (a(2, 2) - q) +
+                       2 * off) / 6;
+    if (!(p2 > 0)) return Vec3::Constant(q);
+    const Scalar p = std::sqrt(p2);
+    const Scalar r = std::clamp((a - q * Mat3::Identity()).determinant() / (2 * p * p2), Scalar(-1), Scalar(1));
+    const Scalar phi = std::acos(r) / 3, third = Scalar(2.0943951023931954923);  // 2 pi / 3
+    const Scalar l1 = q + 2 * p * std::cos(phi), l3 = q + 2 * p * std::cos(phi + third);
+    return Vec3(l1, 3 * q - l1 - l3, l3);
+}
+
+Scalar smallestEigenvalue(const Mat3& a) { return eigenvaluesOf(a)(2); }
+
+// The symmetric part of -dfdv with its negative eigenvalues set to zero, in closed form: the
+// eigenvalues (above); none negative, the matrix itself; one negative, the matrix less that
+// eigenvalue's part; two, the largest eigenvalue's part alone.
+Mat3 dampingBlock(const Mat3& dfdv) {
+    const Mat3 sym = Scalar(-0.5) * (dfdv + dfdv.transpose());
+    const Vec3 l = eigenvaluesOf(sym);
+    if (l(2) >= 0) return sym;
+    Vec3 v;
+    if (l(1) >= 0) {
+        if (nullVector(sym, l(2), v)) return sym - l(2) * v * v.transpose();
+    } else if (l(0) > 0) {
+        if (nullVector(sym, l(0), v)) return l(0) * v * v.transpose();
+    } else {
+        return Mat3::Zero();
+    }
+    return projectByEigenvectors(sym);
 }
 
 void airDamping(const std::vector<Mat3>& velocityJacobian, std::vector<Mat3>& damping) {

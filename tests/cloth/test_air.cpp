@@ -1,7 +1,10 @@
 // The air (cloth/air.h) against the per-triangle force formula it documents, evaluated here by
-// hand; threads give the same bits; no force when the air moves with the cloth.
+// hand; threads give the same bits; no force when the air moves with the cloth; the damping
+// block's closed form against an eigen-decomposition.
 
 #include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -155,5 +158,40 @@ TEST(PhysicsAir, NoForceWhenTheAirMovesWithTheCloth) {
         // The force is quadratic in w, so its velocity derivative vanishes at w = 0 as well.
         for (std::size_t i = 0; i < dfdv.size(); ++i)
             EXPECT_LE(dfdv[i].norm(), 1e-12) << "df/dv of particle " << i << ":\n" << dfdv[i];
+    }
+}
+
+// The damping block's closed form (the smallest eigenvalue by Newton's method, then the negative
+// part taken off) against Eigen's eigen-decomposition with its eigenvalues clamped, on random
+// symmetric matrices of every sign pattern and on repeated eigenvalues. A double root of the
+// characteristic polynomial is found to about the square root of the precision (as by Eigen's
+// own closed form, computeDirect): the eigenvalue to 1e-6 of the matrix's scale, the block to 1e-7.
+TEST(PhysicsAir, TheDampingBlockIsThePositivePartOfAnEigenDecomposition) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<Scalar> u(-1, 1);
+    std::vector<Mat3> cases;
+    for (int k = 0; k < 4000; ++k) {
+        Mat3 q = Eigen::Quaternion<Scalar>(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+        Vec3 lambda(u(rng), u(rng), u(rng));
+        if (k % 4 == 1) lambda = lambda.cwiseAbs();          // positive semidefinite
+        if (k % 4 == 2) lambda(1) = lambda(0);                // a repeated eigenvalue
+        if (k % 4 == 3) lambda *= std::pow(Scalar(10), Scalar(k % 7 - 3));
+        cases.push_back(q * lambda.asDiagonal() * q.transpose());
+    }
+    cases.push_back(Vec3(-1, -1, 2).asDiagonal());
+    cases.push_back(Vec3(1, 1, -1).asDiagonal());
+    cases.push_back(Vec3(0, 0, -1).asDiagonal());
+    cases.push_back(Mat3::Zero());
+    for (const Mat3& sym : cases) {
+        Eigen::SelfAdjointEigenSolver<Mat3> eig(sym);
+        const Mat3 expected = eig.eigenvectors() * eig.eigenvalues().cwiseMax(Scalar(0)).asDiagonal() *
+                              eig.eigenvectors().transpose();
+        const Scalar scale = std::max(sym.cwiseAbs().maxCoeff(), Scalar(1e-300));
+        // dampingBlock takes dfdv: the symmetric part of -dfdv is sym.
+        const Mat3 got = dampingBlock(-sym);
+        ASSERT_LE((got - expected).cwiseAbs().maxCoeff(), 1e-7 * scale) << sym;
+        ASSERT_NEAR(smallestEigenvalue(sym), eig.eigenvalues()(0), 1e-6 * scale) << sym;
+        const Scalar smallestOfGot = Eigen::SelfAdjointEigenSolver<Mat3>(got).eigenvalues()(0);
+        ASSERT_GE(smallestOfGot, -1e-7 * scale) << "not positive semidefinite:\n" << got;
     }
 }

@@ -47,8 +47,10 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
                   AirWorkspace* workspace = nullptr);
 
 // The part of -dfdv that enters W: the symmetric part of -dfdv with its negative eigenvalues
-// clamped to zero.
+// clamped to zero (in closed form, from its smallest eigenvalue).
 Mat3 dampingBlock(const Mat3& dfdv);
+// The smallest eigenvalue of a symmetric 3x3, in closed form.
+Scalar smallestEigenvalue(const Mat3& symmetric);
 
 // -df_i/dv_i of the air for every particle, as dampingBlock()s: what StepInput::damping takes.
 void airDamping(const std::vector<Mat3>& velocityJacobian, std::vector<Mat3>& damping);
