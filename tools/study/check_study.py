@@ -1,15 +1,15 @@
 #!/usr/bin/python3
 """Checks a study's outputs: every column and every solver family present, figures written.
 
-    tools/study/check_study.py out/study      (exit 1 with the reason when something is missing)
+    tools/study/check_study.py out/study      (exit 1 with the reason when something is missing;
+                                               front.csv's columns: front_checks.py)
     tools/study/check_study.py --nvidia-newton out/study  (also: NVIDIA Newton's three solvers at every
                                                            scene and size, and at every extreme case
                                                            and size it was given)
-    tools/study/check_study.py --extremes DIR (only: the demo's default in the extreme cases)
-    tools/study/check_study.py --docs [DIR]   (only: every finding of docs/study.md,
-                                               docs/multigrid.md and docs/stiff_flag.md against the
-                                               committed CSVs in DIR, default docs/study; one line
-                                               per finding)
+    tools/study/check_study.py --docs [DIR]   (only: every finding of docs/study.md (its front table
+                                               first), docs/multigrid.md and docs/stiff_flag.md
+                                               against the committed CSVs in DIR, default
+                                               docs/study; one line per finding)
 """
 import os
 import sys
@@ -17,13 +17,15 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from checks.common import Docs, Finding  # noqa: E402
 from checks.demo_default_findings import DEMO_DEFAULT_FINDINGS  # noqa: E402
+from checks.front_findings import FRONT_FINDINGS  # noqa: E402
 from checks.multigrid_findings import MULTIGRID_FINDINGS  # noqa: E402
-from checks.run_outputs import check_extremes, check_run  # noqa: E402
+from checks.run_outputs import check_run  # noqa: E402
 from checks.stiff_flag_findings import STIFF_FLAG_FINDINGS  # noqa: E402
 from checks.study_findings import STUDY_FINDINGS  # noqa: E402
 
-# Every named finding, each doc's in the order it cites them: docs/study.md, docs/multigrid.md, docs/stiff_flag.md.
-DOC_CHECKS = STUDY_FINDINGS + DEMO_DEFAULT_FINDINGS + MULTIGRID_FINDINGS + STIFF_FLAG_FINDINGS
+# Every named finding, each doc's in the order it cites them: docs/study.md (its opening front table
+# first), docs/multigrid.md, docs/stiff_flag.md.
+DOC_CHECKS = FRONT_FINDINGS + STUDY_FINDINGS + DEMO_DEFAULT_FINDINGS + MULTIGRID_FINDINGS + STIFF_FLAG_FINDINGS
 
 
 def check_docs(d):
@@ -45,8 +47,6 @@ def check_docs(d):
 def main():
     if len(sys.argv) > 1 and sys.argv[1] == "--docs":
         return check_docs(sys.argv[2] if len(sys.argv) > 2 else "docs/study")
-    if len(sys.argv) > 2 and sys.argv[1] == "--extremes":
-        return check_extremes(sys.argv[2])
     nvidia_newton = "--nvidia-newton" in sys.argv[1:]
     args = [a for a in sys.argv[1:] if a != "--nvidia-newton"]
     check_run(args[0] if args else "out/study", nvidia_newton)

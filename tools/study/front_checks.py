@@ -59,7 +59,10 @@ def misses(r):
 
 
 def close(a, b, digits=4):
-    """Equal to the 4 significant digits the study prints (NaN equals NaN)."""
+    """Equal to the 4 significant digits the study prints (NaN equals NaN, inf equals inf: an
+    unstable row's figures)."""
+    if a == b:
+        return True
     if math.isnan(a) or math.isnan(b):
         return math.isnan(a) and math.isnan(b)
     return abs(a - b) <= 10 ** (1 - digits) * max(abs(a), abs(b)) + 1e-300

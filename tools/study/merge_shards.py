@@ -4,16 +4,18 @@
     tools/study/merge_shards.py OUT SHARD_DIR...
 
 Every row carries its serial number (column `row`); the merge sorts by it and refuses a set of
-shards that misses a row or holds one twice. Writes OUT/error_vs_runtime.csv and OUT/extreme.csv
-(each only if the shards have it), through a temporary file and a rename. extreme_cases.csv (the
-extreme cases' pin motion) is the same in every shard: copied once, refused if the shards differ.
+shards that misses a row or holds one twice (shard.json gives each file's row count). Writes
+OUT/error_vs_runtime.csv and OUT/front.csv (each only if the shards have it), through a temporary
+file and a rename. extreme_cases.csv (the paths' pin motion) is the same in every shard: copied once,
+refused if the shards differ.
 """
 import csv
 import json
 import os
 import sys
 
-FILES = ["error_vs_runtime.csv", "extreme.csv"]
+FILES = ["error_vs_runtime.csv", "front.csv"]
+QUOTED = {"solver", "constraints"}  # the columns a serial run quotes (solver and constraint specs)
 WHOLE = ["extreme_cases.csv"]  # every shard writes all of it
 
 
@@ -34,6 +36,8 @@ def shard_info(shard_dirs):
 
 
 def merge(name, shard_dirs, out, expected):
+    """One CSV's rows from every shard, sorted by `row`; exits unless they are rows 0..expected-1,
+    each once. Returns the row count, or None if no shard has the file."""
     header, rows = None, []
     present = [d for d in shard_dirs if os.path.isfile(os.path.join(d, name))]
     if not present:
@@ -56,16 +60,17 @@ def merge(name, shard_dirs, out, expected):
     rows.sort(key=lambda r: int(r[0]))
     tmp = os.path.join(out, name + ".tmp")
     with open(tmp, "w", newline="") as f:
-        # The serial run's quoting: the solver spec column is quoted, nothing else.
-        quoted = header.index("solver") if "solver" in header else -1
+        # The serial run's quoting: the spec columns are quoted, nothing else.
+        quoted = {i for i, c in enumerate(header) if c in QUOTED}
         f.write(",".join(header) + "\n")
         for r in rows:
-            f.write(",".join(f'"{v}"' if i == quoted else v for i, v in enumerate(r)) + "\n")
+            f.write(",".join(f'"{v}"' if i in quoted else v for i, v in enumerate(r)) + "\n")
     os.replace(tmp, os.path.join(out, name))
     return len(rows)
 
 
 def copy_whole(name, shard_dirs, out):
+    """A file every shard writes whole: copied once; exits if the shards' copies differ."""
     texts = []
     for d in shard_dirs:
         if os.path.isfile(os.path.join(d, name)):
@@ -89,6 +94,8 @@ def main():
     expected = shard_info(shard_dirs)
     os.makedirs(out, exist_ok=True)
     for name in FILES:
+        if name not in expected:
+            continue  # shards of a run that did not write it
         n = merge(name, shard_dirs, out, expected[name])
         if n is not None:
             print(f"{out}/{name}: {n} rows from {len(shard_dirs)} shards")

@@ -1,11 +1,13 @@
 """The checks of a run's outputs (tools/study/check_study.py DIR): every column, solver family and
 scene of error_vs_runtime.csv, the figures, the values docs/study.md quotes wherever the run has the
 rows, multigrid and an exact reference at every scene and size, NVIDIA Newton's solvers when asked,
-and the demo's default in the extreme cases (--extremes)."""
+and front.csv with the demo's flag as it ships stable on every path the run has (front_checks.py
+checks front.csv's columns)."""
 import csv
 import os
 import sys
 
+import front_checks
 from checks.common import num
 
 COLUMNS = ["row", "scene", "size", "stiffness", "h", "family", "solver", "ms_per_step", "timing", "solve_error", "traj_error_be",
@@ -86,42 +88,11 @@ def check_nvidia_newton_extremes(d):
     return problems
 
 
-def check_extremes(d):
-    """The demo's default configuration: stable in all six extreme cases at every flag size the run
-    has (33x33 in the quick study, 33x33 and 65x65 in the full one; the committed extreme.csv
-    passes). This includes the 10 g stop, which the previous default (double, tethers at 10%, 8
-    passes of the stretch limit) lost in 3 of 6 runs with air densities 1.2 +- 3e-4
-    (docs/study/pass_order_extreme.csv), and the spin about an axis 1.6 m from the pole, which the
-    stretch limit without tethers loses (docs/study/tethers_extreme.csv, kc_s4); the current one
-    (float, tethers at 2%, 4 passes) holds all 72 runs of docs/study/default_candidates_extreme.csv
-    (--docs checks that: default_stable_all_extremes)."""
-    with open(os.path.join(d, "extreme.csv"), newline="") as f:
-        reader = csv.DictReader(f)
-        missing = [c for c in EXTREME_COLUMNS if c not in reader.fieldnames]
-        rows = [r for r in reader if r["config"] == "demo_default"]
-    if missing:
-        sys.exit(f"{d}/extreme.csv: missing columns {missing}")
-    cases = {"speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"}
-    sizes = sorted({r["size"] for r in rows}, key=int)
-    if "33" not in sizes:
-        sys.exit(f"{d}/extreme.csv: no rows of the demo's default configuration at 33x33")
-    bad = []
-    for size in sizes:
-        at = [r for r in rows if r["size"] == size]
-        bad += [f"{r['case']} at {size}x{size}" for r in at if r["stable"] != "1"]
-        bad += [f"{c} at {size}x{size} (missing)" for c in sorted(cases - {r["case"] for r in at})]
-    if bad:
-        sys.exit(f"{d}/extreme.csv: the demo's default configuration is not stable in: {bad}")
-    for size in sizes:
-        at = [r for r in rows if r["size"] == size]
-        print(f"{d}/extreme.csv: the demo's default configuration is stable in all six extreme cases at "
-              f"{size}x{size}; p99 stretch " + ", ".join(f"{r['case']} {float(r['p99_stretch']):.0%}" for r in at))
-
-
 def check_run(d, nvidia_newton):
     """A run's outputs in d: error_vs_runtime.csv's columns, solver families and scenes, the figures,
-    check_findings and check_everywhere (with nvidia_newton, NVIDIA Newton's CSVs too); exit 1 with the problems,
-    else print a line and check_extremes."""
+    front.csv and front.png, check_findings and check_everywhere (with nvidia_newton, NVIDIA Newton's CSVs
+    too); exit 1 with the problems, else print a line and check that the demo's flag as it ships is
+    stable on every path of the front (front_checks.check_shipped)."""
     with open(os.path.join(d, "error_vs_runtime.csv"), newline="") as f:
         reader = csv.DictReader(f)
         rows = list(reader)
@@ -133,7 +104,7 @@ def check_run(d, nvidia_newton):
         problems.append(f"missing solver families: {sorted(FAMILIES - {r['family'] for r in rows})}")
     if SCENES - {r['scene'] for r in rows}:
         problems.append(f"missing scenes: {sorted(SCENES - {r['scene'] for r in rows})}")
-    for name in ["error_vs_runtime.png", "stability.png", "extreme.csv"]:
+    for name in ["error_vs_runtime.png", "stability.png", "front.csv", "front.png"]:
         if not os.path.isfile(os.path.join(d, name)):
             problems.append(f"missing {name}")
     problems += check_findings(rows)
@@ -153,4 +124,4 @@ def check_run(d, nvidia_newton):
     print(f"{d}: {len(rows)} rows, every column, solver family and scene present, multigrid"
           f"{' and NVIDIA Newton' if nvidia_newton else ''} at every scene and size"
           f"{' (and its extreme cases)' if nvidia_newton else ''}; the findings hold")
-    check_extremes(d)
+    front_checks.check_shipped(d)
