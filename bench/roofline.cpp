@@ -24,6 +24,7 @@
 #include "cloth/constraints.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
+#include "cloth/system.h"
 
 namespace {
 
@@ -135,10 +136,19 @@ constexpr double kSmallStepsBytes = 4 * (12 * kN + 2 * 3 * 6 * kN + 2 * 3 * 4 * 
 constexpr double kExplicitFlops = 22 * kS + 15 * kN;
 constexpr double kExplicitBytes = 8 * (2 * 6 * kN + 3 * kN) + 32 * kS;
 // The air (double): 61 per triangle, 3 per corner sum; with its blocks, the 3x3 velocity
-// derivative per triangle (about 190) and per particle the damping's eigen-decomposition (about
-// 450).
+// derivative per triangle (about 110: five coefficients, nine entries of five terms) summed per
+// particle (9 per corner), and per particle the damping's closed form (about 150: the
+// eigenvalues, a null vector, the outer product).
 constexpr double kAirFlops = 61 * kT + 9 * kT, kAirBytes = 8 * (6 * kN + 3 * kN) + 24 * kT;
-constexpr double kAirBlockFlops = kAirFlops + 190 * kT + 9 * 6 + 450 * kN, kAirBlockBytes = kAirBytes + 8 * 9 * (kT + 2 * kN);
+constexpr double kAirBlockFlops = kAirFlops + 110 * kT + 27 * kT + 150 * kN, kAirBlockBytes = kAirBytes + 8 * 9 * (kT + 2 * kN);
+// The springs' forces and Jacobian blocks assembled (double, cloth::buildSystem, what exact, cg and
+// chebyshev solve): per spring the force (16) and its block J = a I + b u u^T (about 20), added
+// into W_ii of both ends and into the right-hand side (about 60); per particle W_ii's inverse and
+// the rest of b (about 80).
+constexpr double kSystemFlops = 96 * kS + 80 * kN, kSystemBytes = 8 * (9 * kS + 2 * 9 * kN + 12 * kN);
+// A pass of the stretch limit (double): per spring the check (9 flops) on both ends' positions and
+// its table row; the few corrections are not counted.
+constexpr double kStretchFlops = 9 * kS, kStretchBytes = 8 * 6 * kS + 16 * kS;
 // The paper's step in float (stencil): the spring terms 20 per spring, the particle pass about
 // 600 per particle (12 spring sides of force and W_ii, W_ii's inverse, dv(0), the sweep's J dv).
 constexpr double kPaperFlops = 20 * kS + 600 * kN, kPaperBytes = 4 * (6 * 6 * kN + 40 * kN);
@@ -150,6 +160,60 @@ void smallStepsSubstep(benchmark::State& bm) { step(bm, "small_steps:substeps=64
 void explicitSubstep(benchmark::State& bm) { step(bm, "explicit:substeps=64", false, kExplicitFlops, kExplicitBytes, 64); }
 void paperStepFloat(benchmark::State& bm) { step(bm, "kangcho:precision=float", false, kPaperFlops, kPaperBytes, 1); }
 void xpbdPass(benchmark::State& bm) { step(bm, "xpbd", false, kXpbdFlops, kXpbdBytes, 1); }
+
+// A step of converged BDF2 (newton) per iteration; the counter is per Newton iteration (its
+// GMRES iterations, each a product of the step's derivative and a multigrid cycle, with the
+// residual at each iterate). Its flops are not counted: the table gives its time only.
+void newtonIteration(benchmark::State& bm) {
+    Flag33 f;
+    auto solver = solverOf("newton:integrator=bdf2");
+    cloth::StepInput in = f.input();
+    in.air = &f.air;
+    const cloth::State start = f.flag.state;
+    double iterations = 0;
+    for (auto _ : bm) {
+        bm.PauseTiming();
+        f.flag.state = start;
+        solver->resetHistory();
+        bm.ResumeTiming();
+        iterations += solver->step(f.flag.model, {}, f.flag.state, in).iterations;
+        benchmark::ClobberMemory();
+    }
+    bm.counters["calls_per_step"] = iterations / double(bm.iterations());
+}
+
+void springSystem(benchmark::State& bm) {
+    Flag33 f;
+    const cloth::StepInput in = f.input();
+    const cloth::Environment env;
+    cloth::LinearSystem sys;
+    for (auto _ : bm) {
+        cloth::buildSystem({f.flag.model, env, f.flag.state, in}, sys);
+        benchmark::ClobberMemory();
+    }
+    roofCounters(bm, kSystemFlops, kSystemBytes);
+}
+
+// Four passes of the stretch limit at 10% over the flag stretched 12% from the pole top.
+void stretchPass(benchmark::State& bm) {
+    Flag33 f;
+    const cloth::Vec3 top = f.flag.state.x.col(f.flag.pins.front().particle);
+    for (cloth::Index i = 0; i < f.flag.model.particleCount(); ++i)
+        f.flag.state.x.col(i) = top + 1.12 * (f.flag.state.x.col(i) - top);
+    std::vector<std::uint8_t> pinned(f.flag.model.particleCount(), 0);
+    for (const cloth::Pin& p : f.flag.pins) pinned[p.particle] = 1;
+    const cloth::State start = f.flag.state;
+    cloth::StretchLimit limit;
+    for (auto _ : bm) {
+        bm.PauseTiming();
+        f.flag.state = start;
+        bm.ResumeTiming();
+        limit.apply(f.flag.model, pinned, 0.1, 4, kH, f.flag.state);
+        benchmark::ClobberMemory();
+    }
+    roofCounters(bm, 4 * kStretchFlops, 4 * kStretchBytes);
+    bm.counters["calls_per_step"] = 4;
+}
 
 void air(benchmark::State& bm, bool blocks) {
     Flag33 f;
@@ -175,3 +239,6 @@ BENCHMARK(paperStepFloat)->Name("kernel/paper_step_float/33")->Unit(benchmark::k
 BENCHMARK(xpbdPass)->Name("kernel/xpbd_pass/33")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(air, forces, false)->Name("kernel/air/33")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(air, blocks, true)->Name("kernel/air_with_blocks/33")->Unit(benchmark::kMicrosecond);
+BENCHMARK(springSystem)->Name("kernel/spring_system/33")->Unit(benchmark::kMicrosecond);
+BENCHMARK(stretchPass)->Name("kernel/stretch_limit_pass/33")->Unit(benchmark::kMicrosecond);
+BENCHMARK(newtonIteration)->Name("kernel/newton_iteration/33")->Unit(benchmark::kMicrosecond);
