@@ -27,6 +27,68 @@ struct Options {
     int errorEvery = 0;
 };
 
+// What the repeats measured.
+struct Result {
+    std::vector<double> stepsPerSecond;
+    cloth::Diagnostics diag;
+    const char* unstable = nullptr;
+    double maxSolveError = 0;
+    std::string details;
+    long long iterations = 0;
+};
+
+// One timed repeat from rest (the first also counts iterations and the solve error); false when a
+// step fails.
+bool runRepeat(const Options& o, const cloth::SolverConfig& config, const cloth::Constraints& constraints,
+               const cloth::HangingFlagDesc& desc, int rep, Result& out) {
+    cloth::HangingFlag flag = cloth::makeHangingFlag(desc);
+    auto solver = cloth::makeSolver(config);
+    solver->setConstraints(constraints);
+    cloth::Environment env;
+    cloth::StepInput input;
+    input.h = o.dt;
+    input.pins = flag.pins;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int s = 0; s < o.steps; ++s) {
+        const bool measureError = rep == 0 && o.errorEvery > 0 && s % o.errorEvery == 0;
+        cloth::State before;
+        if (measureError) before = flag.state;
+        const cloth::StepResult r = solver->step(flag.model, env, flag.state, input);
+        if (r.status != cloth::StepStatus::Ok) {
+            std::printf("step %d failed: %s (particle %d); state kept at the last good step\n", s,
+                        cloth::toString(r.status), r.badParticle);
+            return false;
+        }
+        if (rep == 0) out.iterations += r.iterations;
+        if (measureError)
+            out.maxSolveError = std::max(
+                out.maxSolveError, cloth::solveError({flag.model, env, before, input, config.compressionRule}, solver->lastDv()));
+    }
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    out.stepsPerSecond.push_back(o.steps / sec);
+    out.details = solver->details();
+    out.diag = cloth::measure(flag.model, env, flag.state);
+    out.unstable = cloth::instability(out.diag, flag.state, desc.poleTop);
+    return true;
+}
+
+void report(const Options& o, const cloth::SolverConfig& config, const cloth::Constraints& constraints, Result& r) {
+    std::sort(r.stepsPerSecond.begin(), r.stepsPerSecond.end());
+    const double median = r.stepsPerSecond[r.stepsPerSecond.size() / 2];
+    std::printf("scene            %s %dx%d, k=%g N/m, h=%g s, %d steps x %d repeats\n", o.scene.c_str(), o.nx, o.ny,
+                o.stiffness, o.dt, o.steps, o.repeats);
+    std::printf("solver           %s\n", config.describe().c_str());
+    if (constraints.any()) std::printf("constraints      %s\n", constraints.describe().c_str());
+    if (!r.details.empty()) std::printf("                 %s\n", r.details.c_str());
+    std::printf("iterations       %.2f per step (mean)\n", double(r.iterations) / o.steps);
+    std::printf("steps/s          %.1f (median; %.2f us/step)\n", median, 1e6 / median);
+    std::printf("stretch          max %.4f  p99 %.4f\n", r.diag.maxStretch, r.diag.p99Stretch);
+    std::printf("compression      max %.4f  p99 %.4f\n", r.diag.maxCompression, r.diag.p99Compression);
+    std::printf("energy           kinetic %.6g J  potential %.6g J\n", r.diag.kinetic, r.diag.potential);
+    std::printf("stable           %s\n", r.unstable ? r.unstable : "yes");
+    if (o.errorEvery > 0) std::printf("solve error      max %.3e\n", r.maxSolveError);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,55 +134,9 @@ int main(int argc, char** argv) {
     desc.ny = o.ny;
     desc.stiffness = {o.stiffness, o.stiffness, o.stiffness / 10};
 
-    std::vector<double> stepsPerSecond;
-    cloth::Diagnostics diag;
-    const char* unstable = nullptr;
-    double maxSolveError = 0;
-    std::string details;
-    long long iterations = 0;
-    for (int rep = 0; rep < o.repeats; ++rep) {
-        cloth::HangingFlag flag = cloth::makeHangingFlag(desc);
-        auto solver = cloth::makeSolver(config);
-        solver->setConstraints(constraints);
-        cloth::Environment env;
-        cloth::StepInput input;
-        input.h = o.dt;
-        input.pins = flag.pins;
-        const auto t0 = std::chrono::steady_clock::now();
-        for (int s = 0; s < o.steps; ++s) {
-            const bool measureError = rep == 0 && o.errorEvery > 0 && s % o.errorEvery == 0;
-            cloth::State before;
-            if (measureError) before = flag.state;
-            const cloth::StepResult r = solver->step(flag.model, env, flag.state, input);
-            if (r.status != cloth::StepStatus::Ok) {
-                std::printf("step %d failed: %s (particle %d); state kept at the last good step\n",
-                            s, cloth::toString(r.status), r.badParticle);
-                return 1;
-            }
-            if (rep == 0) iterations += r.iterations;
-            if (measureError)
-                maxSolveError = std::max(maxSolveError,
-                                         cloth::solveError({flag.model, env, before, input, config.compressionRule}, solver->lastDv()));
-        }
-        const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        stepsPerSecond.push_back(o.steps / sec);
-        details = solver->details();
-        diag = cloth::measure(flag.model, env, flag.state);
-        unstable = cloth::instability(diag, flag.state, desc.poleTop);
-    }
-    std::sort(stepsPerSecond.begin(), stepsPerSecond.end());
-    const double median = stepsPerSecond[stepsPerSecond.size() / 2];
-    std::printf("scene            %s %dx%d, k=%g N/m, h=%g s, %d steps x %d repeats\n",
-                o.scene.c_str(), o.nx, o.ny, o.stiffness, o.dt, o.steps, o.repeats);
-    std::printf("solver           %s\n", config.describe().c_str());
-    if (constraints.any()) std::printf("constraints      %s\n", constraints.describe().c_str());
-    if (!details.empty()) std::printf("                 %s\n", details.c_str());
-    std::printf("iterations       %.2f per step (mean)\n", double(iterations) / o.steps);
-    std::printf("steps/s          %.1f (median; %.2f us/step)\n", median, 1e6 / median);
-    std::printf("stretch          max %.4f  p99 %.4f\n", diag.maxStretch, diag.p99Stretch);
-    std::printf("compression      max %.4f  p99 %.4f\n", diag.maxCompression, diag.p99Compression);
-    std::printf("energy           kinetic %.6g J  potential %.6g J\n", diag.kinetic, diag.potential);
-    std::printf("stable           %s\n", unstable ? unstable : "yes");
-    if (o.errorEvery > 0) std::printf("solve error      max %.3e\n", maxSolveError);
-    return unstable ? 1 : 0;
+    Result result;
+    for (int rep = 0; rep < o.repeats; ++rep)
+        if (!runRepeat(o, config, constraints, desc, rep, result)) return 1;
+    report(o, config, constraints, result);
+    return result.unstable ? 1 : 0;
 }
