@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 
@@ -171,4 +172,61 @@ TEST(Panel, ListsAKindAddedInOneFileAndRunsIt) {
     EXPECT_EQ(rt.scene().flag.solver.describe(), "damped_explicit:damping=0.01");
     EXPECT_TRUE(rt.widgetRect("damping")) << "no field for the kind's key";
     ASSERT_EQ(rt.finish(), 0);
+}
+
+// A number typed out of range into a slider (ctrl+click, "-0", Enter: the soak's seed 11 typed it
+// into the shear) is refused, told and counted; the recorded input leaves it out, so it loads and
+// replays to the same frames (it used to be recorded, and the recording's loader refused it).
+TEST(Panel, AValueTypedOutOfRangeIsRefusedAndTheRecordingStillReplays) {
+    if (!std::getenv("DISPLAY")) GTEST_SKIP() << "no DISPLAY (run under xvfb-run)";
+    const std::string recorded = (std::filesystem::temp_directory_path() / "flagsim_panel_refused.json").string();
+    RunOptions o;
+    o.window = true;
+    o.readback = true;
+    o.frames = 40;
+    o.recordInput = recorded;
+    auto at = [](Runtime& r, const char* label) {
+        const auto rect = r.widgetRect(label);
+        EXPECT_TRUE(rect) << "the panel drew no " << label;
+        return rect ? std::pair{int(((*rect)[0] + (*rect)[2]) / 2), int(((*rect)[1] + (*rect)[3]) / 2)} : std::pair{0, 0};
+    };
+    auto user = [&](Runtime& r) {
+        const int f = r.frameIndex();
+        SDL_Event e{};
+        if (f >= 4 && f <= 6) {  // open the flag's section
+            const auto [x, y] = at(r, "header Flag and air");
+            e = mouse(f == 4 ? SDL_MOUSEMOTION : f == 5 ? SDL_MOUSEBUTTONDOWN : SDL_MOUSEBUTTONUP, x, y);
+        }
+        if (f >= 10 && f <= 12) {  // ctrl+click into the shear slider
+            const auto [x, y] = at(r, "shear N/m");
+            e = mouse(f == 10 ? SDL_MOUSEMOTION : f == 11 ? SDL_MOUSEBUTTONDOWN : SDL_MOUSEBUTTONUP, x, y);
+        }
+        if (f == 9) e = key(SDL_KEYDOWN, SDL_SCANCODE_LCTRL), e.key.keysym.mod = KMOD_LCTRL;
+        if (f == 13) e = key(SDL_KEYUP, SDL_SCANCODE_LCTRL);
+        if (f == 15) {
+            e.type = SDL_TEXTINPUT;
+            e.text.windowID = SDL_GetWindowID(SDL_GL_GetCurrentWindow());
+            std::strcpy(e.text.text, "-0");
+        }
+        if (f == 17) e = key(SDL_KEYDOWN, SDL_SCANCODE_RETURN);
+        if (f == 18) e = key(SDL_KEYUP, SDL_SCANCODE_RETURN);
+        if (e.type) SDL_PushEvent(&e);
+    };
+    std::vector<std::uint64_t> live;
+    {
+        Runtime rt(drivingScene(), o);
+        live = run(rt, user);
+        EXPECT_EQ(rt.refusals(), 1);
+        EXPECT_EQ(rt.scene().flag.stiffness.shear, drivingScene().flag.stiffness.shear);
+        ASSERT_EQ(rt.finish(), 0);
+    }
+    const InputScript script = InputScript::load(recorded);  // threw before: events[..].value = "-0"
+    for (const auto& event : script.events()) EXPECT_NE(event.command.name, "shear");
+    RunOptions replay = o;
+    replay.recordInput.clear();
+    replay.scriptPath = recorded;
+    Runtime rt(drivingScene(), replay);
+    const std::vector<std::uint64_t> again = run(rt, [](Runtime&) {});
+    ASSERT_EQ(again, live);
+    std::filesystem::remove(recorded);
 }

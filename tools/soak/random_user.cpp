@@ -62,14 +62,21 @@ bool isSlider(const std::string& label) {
     return std::find(kSliders.begin(), kSliders.end(), label) != kSliders.end();
 }
 
+// Drawn within the window (the panel may run below its bottom edge).
+bool visible(const engine::Runtime& rt, const std::string& label) {
+    const auto r = rt.widgetRect(label);
+    return r && (*r)[0] >= 0 && (*r)[1] >= 0 && (*r)[2] <= float(rt.scene().render.width) &&
+           (*r)[3] <= float(rt.scene().render.height);
+}
+
 // The panel's number fields now: the running solver's numeric keys, and the sliders (which take
 // a typed number after a ctrl+click).
 std::vector<std::string> numberFields(const engine::Runtime& rt) {
     std::vector<std::string> fields;
     for (const cloth::SolverKeyInfo& k : cloth::solverKeys(rt.scene().flag.solver))
-        if (k.type != cloth::SolverKeyInfo::Type::Choice && rt.widgetRect(k.name)) fields.push_back(k.name);
+        if (k.type != cloth::SolverKeyInfo::Type::Choice && visible(rt, k.name)) fields.push_back(k.name);
     for (const char* s : kSliders)
-        if (rt.widgetRect(s)) fields.push_back(s);
+        if (visible(rt, s)) fields.push_back(s);
     return fields;
 }
 
@@ -112,6 +119,8 @@ void RandomUser::act(const engine::Runtime& rt) {
 
 // One gesture, chosen by weight; a widget gesture keeps the mouse busy until it ends.
 void RandomUser::begin(const engine::Runtime& rt) {
+    const std::string last = gesture_;
+    gesture_.clear();
     const int pick = uniform(0, 99);
     if (pick < 25) holdKey();
     else if (pick < 50) clickWidget(rt);
@@ -120,6 +129,8 @@ void RandomUser::begin(const engine::Runtime& rt) {
     else if (pick < 85) orbit(rt);
     else if (pick < 90) wheel();
     else movePad();
+    if (gesture_.empty()) gesture_ = last;  // nothing to do it on (no such widget in view)
+    else ++counts_[gesture_.substr(0, gesture_.find(' '))];
 }
 
 void RandomUser::holdKey() {
@@ -134,7 +145,8 @@ void RandomUser::holdKey() {
 
 // Move, press, release, a frame each, at the widget's centre when each step runs.
 void RandomUser::clickWidget(const engine::Runtime& rt) {
-    const std::vector<std::string> labels = rt.widgetLabels();
+    std::vector<std::string> labels = rt.widgetLabels();
+    std::erase_if(labels, [&rt](const std::string& l) { return !visible(rt, l); });
     if (labels.empty()) return;
     const std::string label = labels[std::size_t(uniform(0, int(labels.size()) - 1))];
     gesture_ = "click " + label;
@@ -154,7 +166,7 @@ void RandomUser::clickWidget(const engine::Runtime& rt) {
 void RandomUser::dragSlider(const engine::Runtime& rt) {
     const std::string label = kSliders[std::size_t(uniform(0, int(kSliders.size()) - 1))];
     const auto rect = rt.widgetRect(label);
-    if (!rect) return;
+    if (!rect || !visible(rt, label)) return;
     const auto [x0, y] = centre(*rect);
     const int x1 = uniform(0, 2) == 0 ? int((*rect)[0]) - 40 : uniform(0, 1) ? int((*rect)[2]) + 40
                                                                            : uniform(int((*rect)[0]), int((*rect)[2]));

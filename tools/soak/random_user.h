@@ -28,6 +28,8 @@ public:
     // and the gamepad pulled out.
     void restart();
     const std::string& gesture() const { return gesture_; }  // the last begun, for reports
+    // The gestures made so far by kind (hold, click, drag, type, orbit, wheel, plug, unplug, move).
+    const std::map<std::string, long>& counts() const { return counts_; }
 
 private:
     using Step = std::function<void(const engine::Runtime&)>;
@@ -49,6 +51,7 @@ private:
     int frame_ = 0, busyUntil_ = 0;  // a widget gesture at a time (keys and the pad overlap it)
     std::multimap<int, Step> steps_;
     std::string gesture_;
+    std::map<std::string, long> counts_;
 };
 
 }  // namespace soak

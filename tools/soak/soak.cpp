@@ -115,6 +115,10 @@ int runSoak(const SoakOptions& options) {
     }
     if (std::string m = memoryVerdict(state, report); !m.empty()) problems.push_back(m);
     report["frame_ms"] = frameTimesJson(state);
+    report["gestures"] = state.user.counts();
+    std::printf("gestures:");
+    for (const auto& [kind, n] : state.user.counts()) std::printf(" %s %ld", kind.c_str(), n);
+    std::printf("\n");
     report.update({{"frames", frames}, {"refusals", refusals}, {"flag_failures", failures},
                    {"wall_minutes", state.minutes()}, {"problems", problems}});
     std::printf("%ld frames in %.1f min, %ld commands refused, %ld flag failures caught\n", frames, state.minutes(),

@@ -23,7 +23,10 @@ void Runtime::Impl::applyCommands() {
     }
     for (const Command& c : commands) {
         apply(c);
-        if (recorder) recorder->record(frame, c);
+        // A command that no scene could take (a value out of range) is left out of the recording,
+        // whose loader would refuse it; one this scene refused (a solver's keys in conflict)
+        // stays, and is refused again in the replay.
+        if (recorder && checkCommand(c).empty()) recorder->record(frame, c);
     }
 }
 

@@ -28,7 +28,11 @@ bool Panel::editNumber(const std::string& label, double current,
     remember(label);
     if (ImGui::IsItemActive()) active_ = label;
     else if (active_ == label) active_.clear();
-    if (!ImGui::IsItemDeactivatedAfterEdit() || !std::isfinite(v)) return false;
+    if (!ImGui::IsItemDeactivatedAfterEdit()) return false;
+    if (!std::isfinite(v)) {
+        refuse(label + ": " + number(v) + " is not a finite number");
+        return false;
+    }
     *out = v;
     return true;
 }
