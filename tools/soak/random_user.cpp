@@ -167,7 +167,8 @@ void RandomUser::dragSlider(const engine::Runtime& rt) {
     const std::string label = kSliders[std::size_t(uniform(0, int(kSliders.size()) - 1))];
     const auto rect = rt.widgetRect(label);
     if (!rect || !visible(rt, label)) return;
-    const auto [x0, y] = centre(*rect);
+    const auto at = centre(*rect);
+    const int x0 = at[0], y = at[1];  // plain names: clang cannot capture a structured binding
     const int x1 = uniform(0, 2) == 0 ? int((*rect)[0]) - 40 : uniform(0, 1) ? int((*rect)[2]) + 40
                                                                            : uniform(int((*rect)[0]), int((*rect)[2]));
     gesture_ = "drag " + label + " to x=" + std::to_string(x1);
