@@ -52,7 +52,9 @@ void peak(benchmark::State& bm, bool fused) {
         benchmark::DoNotOptimize(iterations);  // not a constant: every call runs its loop
         benchmark::DoNotOptimize(fmaChains(iterations, fused));
     }
-    const double flops = double(kIterations) * kChains * 8 * 2;  // 8 lanes, a multiply and an add
+    // Per thread: Google Benchmark sums a counter over the threads and multiplies an
+    // iteration-invariant one by every thread's iterations, so each thread gives its share.
+    const double flops = double(kIterations) * kChains * 8 * 2 / bm.threads();  // 8 lanes, a multiply and an add
     bm.counters["flops_per_s"] = benchmark::Counter(flops, benchmark::Counter::kIsIterationInvariantRate);
 }
 
@@ -65,7 +67,7 @@ void streamTriad(benchmark::State& bm) {
         for (std::size_t i = begin; i < end; ++i) a[i] = b[i] + 3.0f * c[i];
         benchmark::ClobberMemory();
     }
-    const double elements = double(end - begin);
+    const double elements = double(end - begin) / bm.threads();  // summed over threads: see peak()
     bm.counters["bytes_per_s"] = benchmark::Counter(12 * elements, benchmark::Counter::kIsIterationInvariantRate);
     bm.counters["flops_per_s"] = benchmark::Counter(2 * elements, benchmark::Counter::kIsIterationInvariantRate);
 }
