@@ -1,10 +1,8 @@
 """What the checks of the docs' findings share: the committed CSVs, each read once (Docs); a finding
-that does not hold (Finding, need); a row by the values of its columns (one, ext); and what a
-configuration ranked by reference_table misses (misses, stretch_misses, rows_repeat)."""
+that does not hold (Finding, need); a row by the values of its columns (one, ext); a row of the
+front (front, PATHS)."""
 import csv
 import os
-
-import reference_table
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")  # this file is in tools/study/checks/
 
@@ -12,6 +10,7 @@ ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", ".."
 # the stretch limit's keys under their CSV names (strain_limit, strain_passes).
 DEMO_DEFAULT = "kangcho:iterations=1,precision=float,strain_limit=0.1,strain_passes=4,tether=0.02"
 CASES = ["speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"]
+PATHS = ["drive"] + CASES  # the front's carrier paths
 
 
 def num(v):
@@ -42,11 +41,6 @@ class Docs:
                 raise Finding(f"cannot read {path}: {e}")
         return self.cache[name]
 
-    def merged(self, *names):
-        """The rows of the named CSVs as one, a later file's row replacing an earlier one's
-        (reference_table.merge): a configuration beside the reference rows of older runs."""
-        return reference_table.merge([self.rows(n) for n in names])
-
 
 def need(ok, what):
     if not ok:
@@ -72,24 +66,6 @@ def pct(v):
     return f"{num(v):.0%}"
 
 
-def stretch_misses(entry):
-    """The cases a reference_table.ranking entry misses the stretch bounds in (or is unstable)."""
-    return sorted(x for x, m in entry["judged"].items() if {"unstable", "p99", "peak"} & set(m))
-
-
-def misses(entry):
-    """The cases a reference_table.ranking entry misses any bound in, with the bounds it misses."""
-    return {x: m for x, m in entry["judged"].items() if m}
-
-
-def rows_repeat(docs, name, source, size, config="stiff_reference", cases=reference_table.CASES):
-    """The runs are deterministic: `config`'s rows in `name` repeat those in `source`."""
-    for x in cases:
-        a, b = (one(docs.rows(f), f, config=config, case=x, size=size) for f in (name, source))
-        need(all(a[k] == b[k] for k in ("stable", "p99_stretch", "peak_stretch", "ke_late", "ke_windows")),
-             f"{name}: {config}'s {x} row differs from {source}'s")
-
-
-def reference_repeats(docs, name, source, size, cases=reference_table.CASES):
-    """The stiff reference's rows in `name` repeat those in `source`."""
-    rows_repeat(docs, name, source, size, "stiff_reference", cases)
+def front(docs, flag, path, config, size="33"):
+    """front.csv's row of one flag, path, configuration and size."""
+    return one(docs.rows("front.csv"), "front.csv", flag=flag, path=path, config=config, size=str(size))

@@ -1,12 +1,19 @@
-"""The findings of docs/study.md's opening: the front table (tools/study/front_table.py), each row
-as front.csv gives it."""
+"""The front's tables in the docs, each as tools/study/front_table.py makes it from front.csv: the
+opening table of docs/study.md, and every table of one flag and size's configurations (between
+`<!-- front-matrix FLAG SIZE -->` and `<!-- /front-matrix -->`) in the docs."""
 import os
+import re
 
 import front_table
 from checks.common import ROOT, need
 
 # The markers around the table in docs/study.md (HTML comments: Markdown shows nothing of them).
 START, END = "<!-- front-table -->", "<!-- /front-table -->"
+
+
+def table_lines(block):
+    """The Markdown table's lines in a block of text."""
+    return [line.strip() for line in block.splitlines() if line.strip().startswith("|")]
 
 
 def doc_table(path):
@@ -17,8 +24,11 @@ def doc_table(path):
     end = text.find(END, start + 1) if start >= 0 else -1
     if end < 0:
         return None
-    block = text[start + len(START):end]
-    return [line.strip() for line in block.splitlines() if line.strip().startswith("|")]
+    return table_lines(text[start + len(START):end])
+
+
+MATRIX = re.compile(r"<!-- front-matrix (\w+) (\d+) -->(.*?)<!-- /front-matrix -->", re.S)
+MATRIX_DOCS = ["study.md", "stiff_flag.md", "solvers.md"]
 
 
 def cells(line):
@@ -52,6 +62,25 @@ def c_front_table_matches_csv(docs):
     return f"docs/study.md's front table ({len(want) - 2} rows) is front_table.py's from front.csv"
 
 
+def c_front_matrices_match_csv(docs):
+    rows = docs.rows("front.csv")
+    seen = []
+    for name in MATRIX_DOCS:
+        path = os.path.join(ROOT, "docs", name)
+        if not os.path.isfile(path):
+            continue
+        with open(path) as f:
+            text = f.read()
+        for flag, size, block in MATRIX.findall(text):
+            diff = first_difference(table_lines(block), front_table.matrix(rows, flag, size))
+            need(diff is None, f"docs/{name}'s table of {flag} at {size}x{size}, {diff} "
+                               f"(regenerate it: tools/study/front_table.py {docs.d} --matrix {flag} {size})")
+            seen.append(f"{name} {flag} {size}")
+    need(seen, "no front-matrix table in the docs")
+    return "the configuration tables (" + ", ".join(seen) + ") are front_table.py's from front.csv"
+
+
 FRONT_FINDINGS = [
     ("front_table_matches_csv", c_front_table_matches_csv),
+    ("front_matrices_match_csv", c_front_matrices_match_csv),
 ]

@@ -1,0 +1,61 @@
+"""The findings of docs/study.md's front on the demo's flag: the flag as `flag_vehicle` ships it
+against its reference (its whole model: springs, air, collisions, tethers and stretch limit), the
+constraints' own effect, and the cheapest configuration close to the true motion (front.csv,
+flag=demo, 33x33)."""
+from checks.common import PATHS, front, need, num, stable
+
+
+def misses_on(docs, config, flag="demo"):
+    """The paths where config misses a bound (or is unstable), with what it misses."""
+    out = {}
+    for p in PATHS:
+        r = front(docs, flag, p, config)
+        if not stable(r) or r["misses"]:
+            out[p] = "unstable" if not stable(r) else r["misses"].replace(";", ", ")
+    return out
+
+
+def c_demo_flag_far_from_its_reference(docs):
+    missed = misses_on(docs, "shipped")
+    traj = {p: num(front(docs, "demo", p, "shipped")["traj_error"]) for p in PATHS}
+    need(len(missed) >= 5, f"front.csv: the demo's flag as shipped misses a bound on {sorted(missed)} (docs: five or more paths)")
+    need(min(traj.values()) >= 0.05, f"front.csv: the shipped demo flag's trajectory error is {traj} (docs: 5% of the width or more)")
+    worst = max(traj, key=traj.get)
+    return (f"the demo's flag as shipped misses a bound on {len(missed)} of 7 paths ({'; '.join(f'{p}: {m}' for p, m in missed.items())}); "
+            f"it is {min(traj.values()):.0%}-{traj[worst]:.0%} of the width from its reference ({worst} the worst)")
+
+
+def c_constraints_are_part_of_the_model(docs):
+    springs = misses_on(docs, "reference_springs")
+    bare = misses_on(docs, "kangcho_no_constraints")
+    need(len(springs) >= 3, f"front.csv: the springs-only reference misses the full one's bounds on {sorted(springs)} (docs: 3 or more paths)")
+    need(len(bare) == 7, f"front.csv: the paper's step without constraints misses on {sorted(bare)} (docs: all seven)")
+    return (f"the springs-only reference misses the constrained reference's bounds on {len(springs)} of 7 paths "
+            f"({', '.join(sorted(springs))}); the paper's step without constraints on all seven")
+
+
+def c_demo_true_motion_costs(docs):
+    fine = [c for c in ("newton_bdf2_960", "newton_bdf2_960_2", "newton_bdf2_1920", "newton_bdf2_1920_2")
+            if not misses_on(docs, c)]
+    need(len(fine) == 4, f"front.csv: of BDF2 in small steps only {fine} within every bound on the demo's flag (docs: all four)")
+    cost = [num(front(docs, "demo", "drive", c)["ms_per_frame"]) / num(front(docs, "demo", "drive", "shipped")["ms_per_frame"])
+            for c in fine]
+    small = misses_on(docs, "small_steps")
+    need(sorted(small) == ["gale_40mps", "speed_50mps", "teleport_1m"],
+         f"front.csv: small_steps on the demo's flag misses on {small} (docs: 50 m/s, the teleport, the gale)")
+    explicit = misses_on(docs, "explicit_32")
+    need(list(explicit) == ["light_particles"], f"front.csv: explicit_32 on the demo's flag misses on {explicit} (docs: light particles alone)")
+    kept = [num(front(docs, "demo", p, c)["energy_ratio"]) for p in ("speed_50mps", "gale_40mps") for c in ("small_steps", "explicit_32")]
+    need(max(kept[0], kept[2]) < 0.5 <= min(kept[1], kept[3]),
+         f"front.csv: 50 m/s and gale flutter kept by small_steps / explicit_32: {kept} (docs: under 0.5x / within the band)")
+    return (f"within every bound on all seven paths: BDF2 in steps of 1/960 s and less, {min(cost):.0f}-{max(cost):.0f}x the shipped "
+            f"step's cost on the drive; explicit in 32 substeps misses light particles alone; small_steps, the constraints once per "
+            f"tick, misses {', '.join(f'{p} ({m})' for p, m in small.items())}, its flutter {kept[0]:.2f}x and {kept[2]:.2f}x "
+            f"where explicit_32's is {kept[1]:.2f}x and {kept[3]:.2f}x")
+
+
+FRONT_DEMO_FINDINGS = [
+    ("demo_flag_far_from_its_reference", c_demo_flag_far_from_its_reference),
+    ("constraints_are_part_of_the_model", c_constraints_are_part_of_the_model),
+    ("demo_true_motion_costs", c_demo_true_motion_costs),
+]
