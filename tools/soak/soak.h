@@ -25,7 +25,7 @@ struct SoakOptions {
     std::string outDir = "out/soak";
     bool replay = true;
     std::string plant;          // leak | nan | hang: a fault the watchers must catch (their test)
-    int segmentFrames = 1800;   // a segment runs a sixth of this to this many frames
+    int segmentFrames = 600;    // a segment runs a sixth of this to this many frames
     double warmupMinutes = 1;   // the warm-up: this long, and every scene run once
     double hangSeconds = 120;   // a frame (or a scene's start) longer than this is a hang
     std::vector<std::string> scenes;  // names in the assets; empty: every scene with a window
