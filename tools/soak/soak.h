@@ -3,8 +3,8 @@
 // as segments (a scene, a few hundred to a few thousand frames, its input recorded); each
 // segment's recorded input is replayed in a window and must give the same frames, bit for bit.
 // It fails on a non-finite flag or vehicle, a run that ends in an error, a replay that differs,
-// resident memory (sampled each second) more than 5% above the warm-up's peak after the warm-up
-// (the first minute, and every scene run once); a frame that never ends stops it with exit code 3
+// resident memory between segments (when their runtimes are gone) more than 5% above the
+// warm-up's (the first minute, and every scene run once); a frame that never ends stops it with exit code 3
 // (watch.h). Refused commands and the flag's caught failures are counted, not
 // failures: they are the engine answering bad input as it should.
 
@@ -58,6 +58,7 @@ struct SoakState {
     Watchdog watchdog;
     std::map<std::string, FrameTimes> frameTimes;  // by scene name
     std::vector<std::pair<double, long>> memory;   // (minutes, resident KiB), about once a second
+    std::vector<std::pair<double, long>> floors;   // (minutes, resident KiB) after each segment's end
     double warmedUp = -1;                          // the minute the warm-up ended (-1: not yet)
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
     double minutes() const {
