@@ -217,7 +217,7 @@ def plot(rows, out):
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.45 / fig.get_figheight()))
     for ax, names in labels:
         place_labels(ax, names)
-    fig.savefig(out, dpi=100)
+    fig.savefig(out, dpi=80)  # under 1 MiB for the repository; the layout is in inches
     plt.close(fig)
     return len(labels)
 
