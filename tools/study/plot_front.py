@@ -22,19 +22,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-FLAGS = ["demo", "stiff"]
-PATHS = ["drive", "speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"]
+from front_table import FLAGS, PATHS, num  # noqa: E402  (the flags, paths and numbers of the table)
+
 SIZE_STYLE = {"33": ("tab:blue", "o"), "65": ("tab:orange", "s")}
 OTHER_STYLE = ("tab:green", "D")  # a size the study does not run by default (--front-sizes)
-
-
-def num(v):
-    """A finite float, or None."""
-    try:
-        x = float(v)
-    except (TypeError, ValueError):
-        return None
-    return x if math.isfinite(x) else None
 
 
 def style(size):
