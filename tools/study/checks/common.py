@@ -69,3 +69,14 @@ def pct(v):
 def front(docs, flag, path, config, size="33"):
     """front.csv's row of one flag, path, configuration and size."""
     return one(docs.rows("front.csv"), "front.csv", flag=flag, path=path, config=config, size=str(size))
+
+
+def misses_on(docs, flag, config, size="33"):
+    """The front's paths where config misses a bound (or is unstable): {path: "unstable" or the
+    misses as front.csv writes them, ';'-separated}; empty when it is within every bound."""
+    out = {}
+    for p in PATHS:
+        r = front(docs, flag, p, config, size)
+        if not stable(r) or r["misses"]:
+            out[p] = "unstable" if not stable(r) else r["misses"]
+    return out

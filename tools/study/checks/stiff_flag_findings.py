@@ -3,7 +3,7 @@ front.csv (flag=stiff), each judged by the bounds front_checks.py recomputes."""
 import json
 import os
 
-from checks.common import PATHS, front, need, num, stable
+from checks.common import PATHS, front, misses_on, need, num, stable
 
 FLUTTER = ["speed_50mps", "gale_40mps"]
 # The implicit configurations whose step is a whole 240 Hz tick or longer.
@@ -13,21 +13,11 @@ LONG_STEPS = ["kangcho", "kangcho_3", "kangcho_16", "desbrun", "multigrid", "mul
 XPBD = ["xpbd_960", "xpbd_960_16", "xpbd_1920", "xpbd_chains_1920", "xpbd_3840"]
 
 
-def within_everywhere(docs, flag, config, size="33"):
-    """The paths on which config is within every bound, and those it misses (with what it misses)."""
-    missed = {}
-    for p in PATHS:
-        r = front(docs, flag, p, config, size)
-        if not stable(r) or r["misses"]:
-            missed[p] = "unstable" if not stable(r) else r["misses"]
-    return missed
-
-
 def c_stiff_flag_ships_the_true_motion(docs):
     scene = json.load(open(os.path.join(docs.d, "..", "..", "assets", "scenes", "flag_vehicle_stiff.json")))
     need(scene["flag"]["solver"] == {"name": "small_steps"} and scene["timing"]["physics_hz"] == 240,
          f"flag_vehicle_stiff.json ships {scene['flag']['solver']} at {scene['timing']['physics_hz']} Hz (docs: small_steps, 240 Hz)")
-    missed = within_everywhere(docs, "stiff", "shipped")
+    missed = misses_on(docs, "stiff", "shipped")
     need(missed == {"teleport_1m": "peak"}, f"front.csv: the shipped stiff flag misses {missed} (docs: the teleport's peak alone)")
     traj = [num(front(docs, "stiff", p, "shipped")["traj_error"]) for p in PATHS]
     need(max(traj) <= 0.03, f"front.csv: the shipped stiff flag's trajectory error up to {max(traj):.2%} (docs: under 3%)")
@@ -38,9 +28,9 @@ def c_stiff_flag_ships_the_true_motion(docs):
              for c in ("reference_half_step", "small_steps_f12", "small_steps_64", "small_steps_96")}
     need(all(v <= allowed for v in peaks.values()) and num(tp["peak_stretch"]) - allowed < 0.03,
          f"front.csv: the teleport's peaks {peaks}, shipped {tp['peak_stretch']}, allowed {allowed:.3f}")
-    need(not within_everywhere(docs, "stiff", "small_steps_f12"), "front.csv: small_steps_f12 misses a bound (docs: within all)")
+    need(not misses_on(docs, "stiff", "small_steps_f12"), "front.csv: small_steps_f12 misses a bound (docs: within all)")
     for c in LONG_STEPS:
-        need(within_everywhere(docs, "stiff", c), f"front.csv: {c} within every bound on all seven paths (docs: none in long steps)")
+        need(misses_on(docs, "stiff", c), f"front.csv: {c} within every bound on all seven paths (docs: none in long steps)")
     return (f"small_steps at 240 Hz: within every bound on six of seven paths, {min(traj):.2%}-{max(traj):.2%} of the width from "
             f"the reference, {min(cost):.1f}-{max(cost):.1f} ms per frame (light particles {num(front(docs, 'stiff', 'light_particles', 'shipped')['ms_per_frame']):.0f}); "
             f"the teleport's peak {num(tp['peak_stretch']):.1%} against {allowed:.1%} allowed, where "
@@ -78,7 +68,7 @@ def c_implicit_steps_damp_the_flutter(docs):
 
 
 def c_small_implicit_steps_cost_the_most(docs):
-    fine = {c: within_everywhere(docs, "stiff", c) for c in ("newton_bdf2_960", "newton_bdf2_960_2", "newton_bdf2_1920")}
+    fine = {c: misses_on(docs, "stiff", c) for c in ("newton_bdf2_960", "newton_bdf2_960_2", "newton_bdf2_1920")}
     need(not any(fine.values()), f"front.csv: BDF2 in steps of 1/960 s or less misses {fine} (docs: within every bound)")
     shipped = num(front(docs, "stiff", "drive", "shipped")["ms_per_frame"])
     cost = {c: num(front(docs, "stiff", "drive", c)["ms_per_frame"]) for c in fine}
@@ -88,7 +78,7 @@ def c_small_implicit_steps_cost_the_most(docs):
 
 
 def c_xpbd_keeps_flutter_not_stretch(docs):
-    stretch = {c: sum(1 for p in PATHS if {"p99", "peak", "unstable"} & set(within_everywhere(docs, "stiff", c).get(p, "").split(";")))
+    stretch = {c: sum(1 for p in PATHS if {"p99", "peak", "unstable"} & set(misses_on(docs, "stiff", c).get(p, "").split(";")))
                for c in XPBD}
     need(all(n >= 3 for n in stretch.values()), f"front.csv: xpbd misses a stretch bound on {stretch} paths (docs: 3 or more each)")
     need(all(not stable(front(docs, "stiff", "light_particles", c)) for c in XPBD), "front.csv: xpbd stable with light particles")
