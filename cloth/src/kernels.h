@@ -57,14 +57,16 @@ template <class T>
 }
 
 // inv = S^-1 by cofactors; a singular S (zero determinant, as for a row with no unknown) gives
-// inv = 0 and returns false. Branch-free, so that loops over particles vectorize.
-template <class T>
-[[gnu::always_inline]] inline bool symmetricInverse(const T* s, T* inv) {
-    const T cxx = s[3] * s[5] - s[4] * s[4], cxy = s[2] * s[4] - s[1] * s[5], cxz = s[1] * s[4] - s[2] * s[3];
-    const T cyy = s[0] * s[5] - s[2] * s[2], cyz = s[1] * s[2] - s[0] * s[4], czz = s[0] * s[3] - s[1] * s[1];
-    const T det = s[0] * cxx + s[1] * cxy + s[2] * cxz;
-    const bool regular = det != T(0);
-    const T id = regular ? T(1) / (regular ? det : T(1)) : T(0);
+// inv = 0, and the result is false. Branch-free, so that loops over particles vectorize. V may be
+// a pack (pack.h) of S: then the result is a lane mask.
+template <class V, class S = V>
+[[gnu::always_inline]] inline auto symmetricInverse(const V* s, V* inv) {
+    const V cxx = s[3] * s[5] - s[4] * s[4], cxy = s[2] * s[4] - s[1] * s[5], cxz = s[1] * s[4] - s[2] * s[3];
+    const V cyy = s[0] * s[5] - s[2] * s[2], cyz = s[1] * s[2] - s[0] * s[4], czz = s[0] * s[3] - s[1] * s[1];
+    const V det = s[0] * cxx + s[1] * cxy + s[2] * cxz;
+    const V zero{}, one = S(1) - zero;
+    const auto regular = det != zero;
+    const V id = regular ? S(1) / (regular ? det : one) : zero;
     inv[0] = cxx * id, inv[1] = cxy * id, inv[2] = cxz * id, inv[3] = cyy * id, inv[4] = cyz * id, inv[5] = czz * id;
     return regular;
 }

@@ -1,11 +1,12 @@
 #pragma once
 // How the vectorized kernels (kangcho/stencil.cpp, multigrid.cpp) ask the compiler for SIMD.
 
-// Kernels are cloned for x86-64-v3 (AVX2, FMA) and the baseline; the dynamic loader picks one
-// per CPU. Clang and other targets get the baseline only. The library is built with
-// -ffp-contract=off, so both clones round alike and give the same bits.
+// Kernels are cloned for x86-64-v4 (AVX-512: 32 vector registers, so a kernel's accumulators need
+// not spill), x86-64-v3 (AVX2, FMA) and the baseline; the dynamic loader picks one per CPU. Clang
+// and other targets get the baseline only. The library is built with -ffp-contract=off, so every
+// clone rounds alike and gives the same bits.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define CLOTH_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define CLOTH_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define CLOTH_SIMD_CLONES
 #endif

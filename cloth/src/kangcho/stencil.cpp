@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "kernels.h"
-#include "simd.h"
+#include "pack.h"
 
 namespace cloth {
 
@@ -29,10 +29,7 @@ std::vector<int> springFamilies(const Model& model) {
 namespace {
 
 template <class T>
-struct FamilyView {
-    const T *ux, *uy, *uz, *a, *b, *fm;
-    int d;
-};
+using FamilyView = StencilFamilyView<T>;
 
 // J q for a spring's Jacobian J = a I + b u u^T, accumulated into (sx, sy, sz).
 template <class T>
@@ -45,10 +42,13 @@ CLOTH_INLINE inline void addJacobianTimes(T a, T b, T ux, T uy, T uz, T qx, T qy
 
 // Eqs. 15-17 for one family's slots [begin, end): u, a, b and the force magnitude.
 template <class T>
-CLOTH_SIMD_CLONES void springKernel(const T* __restrict x, const T* __restrict y, const T* __restrict z, int d,
+CLOTH_SIMD_CLONES void springKernel(const T* __restrict x, const T* __restrict y, const T* __restrict z,
                                     const T* __restrict k, const T* __restrict rest, bool compressionRule,
-                                    T* __restrict ux, T* __restrict uy, T* __restrict uz, T* __restrict a,
-                                    T* __restrict b, T* __restrict fm, int begin, int end) {
+                                    const FamilyView<T>& out, int begin, int end) {
+    const int d = out.d;
+    T *__restrict ux = out.ux, *__restrict uy = out.uy, *__restrict uz = out.uz, *__restrict a = out.a;
+    T *__restrict b = out.b, *__restrict fm = out.fm;
+CLOTH_IVDEP
     for (int p = begin; p < end; ++p) {
         const SpringTerms<T> t =
             springTerms(x[p + d] - x[p], y[p + d] - y[p], z[p + d] - z[p], k[p], rest[p], compressionRule);
@@ -56,34 +56,20 @@ CLOTH_SIMD_CLONES void springKernel(const T* __restrict x, const T* __restrict y
     }
 }
 
-// The particle passes walk their range in tiles; per tile, each family and each end of its
-// springs is one short loop that adds into accumulators the size of a tile (they stay in L1), so
-// a loop body holds a few arrays, not all of them. A spring is seen from its lower end (slot t,
-// other end t + d, u pointing away: sign +1) and from its upper end (slot t - d, other end t - d,
-// sign -1). Tiles are kTile rows (simd.h).
+// The particle passes walk their range in packs of lanes (pack.h): per pack, each family and each
+// end of its springs adds into accumulators held in registers, in the same order for every lane.
+// A spring is seen from its lower end (slot i, other end i + d, u pointing away: sign +1) and
+// from its upper end (slot i - d, other end i - d, sign -1). The range's last few particles run
+// the same code on scalars (V = T), with the same bits.
 
-struct TileRange {
-    int begin, n;
-};
-
-// s += sum over the springs of each particle in the tile of J_ij q_j (the off-diagonal product
-// of eq. 11, without the h^2 factor).
+// The spring side (f, side) as seen from particles i...: its slot and the other end's index.
 template <class T>
-CLOTH_INLINE inline void addOffDiagonal(const FamilyView<T>* families, int count, const T* qx0, const T* qy0,
-                                        const T* qz0, TileRange tile, T* __restrict sx, T* __restrict sy,
-                                        T* __restrict sz) {
-    for (int f = 0; f < count; ++f)
-        for (const int side : {1, -1}) {
-            const FamilyView<T>& F = families[f];
-            const int slot = tile.begin + (side > 0 ? 0 : -F.d), other = tile.begin + side * F.d;
-            const T *__restrict ux = F.ux + slot, *__restrict uy = F.uy + slot, *__restrict uz = F.uz + slot;
-            const T *__restrict a = F.a + slot, *__restrict b = F.b + slot;
-            const T *__restrict qx = qx0 + other, *__restrict qy = qy0 + other, *__restrict qz = qz0 + other;
-CLOTH_IVDEP
-            for (int t = 0; t < tile.n; ++t)
-                addJacobianTimes(a[t], b[t], ux[t], uy[t], uz[t], qx[t], qy[t], qz[t], sx[t], sy[t], sz[t]);
-        }
-}
+struct SpringSide {
+    const FamilyView<T>& F;
+    int slot, other;
+    SpringSide(const FamilyView<T>& family, int side, int i)
+        : F(family), slot(i + (side > 0 ? 0 : -family.d)), other(i + side * family.d) {}
+};
 
 template <class T>
 struct ParticleArgs {
@@ -95,74 +81,71 @@ struct ParticleArgs {
     T h, c;
 };
 
+// What the springs give particles i...: f = f0 + sum of spring forces, K = A I + B the sum of
+// their Jacobian blocks (eq. 12 without its mass and h^2), and j = sum_j J_ij w_j.
+template <class V>
+struct SpringSums {
+    V fx, fy, fz, A, Bxx, Bxy, Bxz, Byy, Byz, Bzz, jx, jy, jz;
+};
+
+template <class T, class V>
+CLOTH_INLINE inline SpringSums<V> springSums(const ParticleArgs<T>& args, int i) {
+    SpringSums<V> s{};
+    s.fx = load<V>(args.f0x + i), s.fy = load<V>(args.f0y + i), s.fz = load<V>(args.f0z + i);
+    for (int f = 0; f < args.families; ++f)
+        for (const int side : {1, -1}) {
+            const SpringSide<T> at(args.fam[f], side, i);
+            const V x = load<V>(at.F.ux + at.slot), y = load<V>(at.F.uy + at.slot), z = load<V>(at.F.uz + at.slot);
+            const V a = load<V>(at.F.a + at.slot), b = load<V>(at.F.b + at.slot);
+            const V fs = T(side) * load<V>(at.F.fm + at.slot);
+            s.fx += fs * x, s.fy += fs * y, s.fz += fs * z;
+            s.A += a;
+            s.Bxx += b * x * x, s.Bxy += b * x * y, s.Bxz += b * x * z;
+            s.Byy += b * y * y, s.Byz += b * y * z, s.Bzz += b * z * z;
+            addJacobianTimes(a, b, x, y, z, load<V>(args.wx + at.other), load<V>(args.wy + at.other),
+                             load<V>(args.wz + at.other), s.jx, s.jy, s.jz);
+        }
+    return s;
+}
+
 // Per particle: f, W_ii (eq. 12), b_i (eq. 7, pinned columns moved to the right), W_ii^-1 and
 // dv(0) = W_ii^-1 b_i (eq. 11). The b_i term sum_j J_ij (w_j - v_i) is computed as
-// sum_j J_ij w_j - (A I + B) v_i, the first part by the sweep's own product; w = v + the
-// prescribed dv of pinned particles (v elsewhere) carries the pinned columns. Pinned particles
-// get dv = 0 here: their prescribed dv is already in their neighbours' b_i, and solve() writes
-// it into the result.
+// sum_j J_ij w_j - (A I + B) v_i; w = v + the prescribed dv of pinned particles (v elsewhere)
+// carries the pinned columns. Pinned particles get dv = 0 here: their prescribed dv is already in
+// their neighbours' b_i, and solve() writes it into the result.
+template <class T, class V>
+CLOTH_INLINE inline void particleLanes(const ParticleArgs<T>& args, int i) {
+    const T h = args.h, h2 = h * h;
+    const SpringSums<V> s = springSums<T, V>(args, i);
+    const V vx = load<V>(args.vx + i), vy = load<V>(args.vy + i), vz = load<V>(args.vz + i);
+    // sum_j J_ij (w_j - v_i) = sum_j J_ij w_j - (A I + B) v_i
+    const V kxx = s.A + s.Bxx, kxy = s.Bxy, kxz = s.Bxz, kyy = s.A + s.Byy, kyz = s.Byz, kzz = s.A + s.Bzz;
+    const V ex = s.jx - (kxx * vx + kxy * vy + kxz * vz);
+    const V ey = s.jy - (kxy * vx + kyy * vy + kyz * vz);
+    const V ez = s.jz - (kxz * vx + kyz * vy + kzz * vz);
+    const V r0 = h * s.fx + h2 * ex, r1 = h * s.fy + h2 * ey, r2 = h * s.fz + h2 * ez;
+    // W = m (1 + h c) I + h C + h^2 (A I + B), as 6 numbers, and its inverse.
+    const V diag = load<V>(args.mass + i) * (T(1) + h * args.c);
+    const V W[6] = {diag + load<V>(args.damp[0] + i) + h2 * kxx, load<V>(args.damp[1] + i) + h2 * kxy,
+                    load<V>(args.damp[2] + i) + h2 * kxz,        diag + load<V>(args.damp[3] + i) + h2 * kyy,
+                    load<V>(args.damp[4] + i) + h2 * kyz,        diag + load<V>(args.damp[5] + i) + h2 * kzz};
+    V inv[6];
+    symmetricInverse<V, T>(W, inv);
+    store(args.rx + i, r0), store(args.ry + i, r1), store(args.rz + i, r2);
+    T* const out[6] = {args.w0, args.w1, args.w2, args.w3, args.w4, args.w5};
+    for (int e = 0; e < 6; ++e) store(out[e] + i, inv[e]);
+    const auto free = load<V>(args.pinned + i) == T(0);
+    const V zero{};
+    store(args.dx + i, free ? inv[0] * r0 + inv[1] * r1 + inv[2] * r2 : zero);
+    store(args.dy + i, free ? inv[1] * r0 + inv[3] * r1 + inv[4] * r2 : zero);
+    store(args.dz + i, free ? inv[2] * r0 + inv[4] * r1 + inv[5] * r2 : zero);
+}
+
 template <class T>
 CLOTH_SIMD_CLONES void particleKernel(const ParticleArgs<T>& args, int begin, int end) {
-    const T h = args.h, h2 = h * h, c = args.c;
-    alignas(64) T fx[kTile], fy[kTile], fz[kTile], jx[kTile], jy[kTile], jz[kTile];
-    alignas(64) T A[kTile], Bxx[kTile], Bxy[kTile], Bxz[kTile], Byy[kTile], Byz[kTile], Bzz[kTile];
-    for (int first = begin; first < end; first += kTile) {
-        const TileRange tile{first, std::min(kTile, end - first)};
-        const int n = tile.n;
-        for (int t = 0; t < n; ++t) {
-            fx[t] = args.f0x[first + t], fy[t] = args.f0y[first + t], fz[t] = args.f0z[first + t];
-            jx[t] = jy[t] = jz[t] = A[t] = Bxx[t] = Bxy[t] = Bxz[t] = Byy[t] = Byz[t] = Bzz[t] = T(0);
-        }
-        for (int f = 0; f < args.families; ++f)
-            for (const int side : {1, -1}) {
-                const FamilyView<T>& F = args.fam[f];
-                const int slot = first + (side > 0 ? 0 : -F.d);
-                const T sign = T(side);
-                const T *__restrict ux = F.ux + slot, *__restrict uy = F.uy + slot, *__restrict uz = F.uz + slot;
-                const T *__restrict fa = F.a + slot, *__restrict fb = F.b + slot, *__restrict fm = F.fm + slot;
-CLOTH_IVDEP
-                for (int t = 0; t < n; ++t) {
-                    const T x = ux[t], y = uy[t], z = uz[t], b = fb[t], fs = sign * fm[t];
-                    fx[t] += fs * x, fy[t] += fs * y, fz[t] += fs * z;
-                    A[t] += fa[t];
-                    Bxx[t] += b * x * x, Bxy[t] += b * x * y, Bxz[t] += b * x * z;
-                    Byy[t] += b * y * y, Byz[t] += b * y * z, Bzz[t] += b * z * z;
-                }
-            }
-        addOffDiagonal(args.fam, args.families, args.wx, args.wy, args.wz, tile, jx, jy, jz);
-        const T *__restrict vx = args.vx + first, *__restrict vy = args.vy + first, *__restrict vz = args.vz + first;
-        const T *__restrict pinned = args.pinned + first, *__restrict mass = args.mass + first;
-        T *__restrict rx = args.rx + first, *__restrict ry = args.ry + first, *__restrict rz = args.rz + first;
-        T *__restrict w0 = args.w0 + first, *__restrict w1 = args.w1 + first, *__restrict w2 = args.w2 + first;
-        T *__restrict w3 = args.w3 + first, *__restrict w4 = args.w4 + first, *__restrict w5 = args.w5 + first;
-        T *__restrict dx = args.dx + first, *__restrict dy = args.dy + first, *__restrict dz = args.dz + first;
-        const T *__restrict c0 = args.damp[0] + first, *__restrict c1 = args.damp[1] + first;
-        const T *__restrict c2 = args.damp[2] + first, *__restrict c3 = args.damp[3] + first;
-        const T *__restrict c4 = args.damp[4] + first, *__restrict c5 = args.damp[5] + first;
-CLOTH_IVDEP
-        for (int t = 0; t < n; ++t) {
-            // sum_j J_ij (w_j - v_i) = sum_j J_ij w_j - (A I + B) v_i
-            const T Ka = A[t], kxx = Ka + Bxx[t], kxy = Bxy[t], kxz = Bxz[t];
-            const T kyy = Ka + Byy[t], kyz = Byz[t], kzz = Ka + Bzz[t];
-            const T ex = jx[t] - (kxx * vx[t] + kxy * vy[t] + kxz * vz[t]);
-            const T ey = jy[t] - (kxy * vx[t] + kyy * vy[t] + kyz * vz[t]);
-            const T ez = jz[t] - (kxz * vx[t] + kyz * vy[t] + kzz * vz[t]);
-            const T r0 = h * fx[t] + h2 * ex, r1 = h * fy[t] + h2 * ey, r2 = h * fz[t] + h2 * ez;
-            // W = m (1 + h c) I + h C + h^2 (A I + B), as 6 numbers, and its inverse.
-            const T diag = mass[t] * (T(1) + h * c);
-            const T W[6] = {diag + c0[t] + h2 * kxx, c1[t] + h2 * kxy, c2[t] + h2 * kxz,
-                            diag + c3[t] + h2 * kyy, c4[t] + h2 * kyz, diag + c5[t] + h2 * kzz};
-            T inv[6];
-            symmetricInverse(W, inv);
-            const T i0 = inv[0], i1 = inv[1], i2 = inv[2], i3 = inv[3], i4 = inv[4], i5 = inv[5];
-            rx[t] = r0, ry[t] = r1, rz[t] = r2;
-            w0[t] = i0, w1[t] = i1, w2[t] = i2, w3[t] = i3, w4[t] = i4, w5[t] = i5;
-            const bool free = pinned[t] == T(0);
-            dx[t] = free ? i0 * r0 + i1 * r1 + i2 * r2 : T(0);
-            dy[t] = free ? i1 * r0 + i3 * r1 + i4 * r2 : T(0);
-            dz[t] = free ? i2 * r0 + i4 * r1 + i5 * r2 : T(0);
-        }
-    }
+    int i = begin;
+    for (; i + kLanes<T> <= end; i += kLanes<T>) particleLanes<T, Pack<T>>(args, i);
+    for (; i < end; ++i) particleLanes<T, T>(args, i);
 }
 
 template <class T>
@@ -176,28 +159,32 @@ struct SweepArgs {
 
 // One Jacobi sweep (eq. 11; from dv(0) it is eq. 14): dv_i = W_ii^-1 (b_i + h^2 sum_j J dv_j).
 // Pinned particles hold dv = 0, so their columns (already in b_i) add nothing.
+template <class T, class V>
+CLOTH_INLINE inline void sweepLanes(const SweepArgs<T>& args, int i) {
+    V sx{}, sy{}, sz{};
+    for (int f = 0; f < args.families; ++f)
+        for (const int side : {1, -1}) {
+            const SpringSide<T> at(args.fam[f], side, i);
+            addJacobianTimes(load<V>(at.F.a + at.slot), load<V>(at.F.b + at.slot), load<V>(at.F.ux + at.slot),
+                             load<V>(at.F.uy + at.slot), load<V>(at.F.uz + at.slot), load<V>(args.inx + at.other),
+                             load<V>(args.iny + at.other), load<V>(args.inz + at.other), sx, sy, sz);
+        }
+    const T h2 = args.h2;
+    const V y0 = load<V>(args.rx + i) + h2 * sx, y1 = load<V>(args.ry + i) + h2 * sy, y2 = load<V>(args.rz + i) + h2 * sz;
+    const V w0 = load<V>(args.w0 + i), w1 = load<V>(args.w1 + i), w2 = load<V>(args.w2 + i);
+    const V w3 = load<V>(args.w3 + i), w4 = load<V>(args.w4 + i), w5 = load<V>(args.w5 + i);
+    const auto free = load<V>(args.pinned + i) == T(0);
+    const V zero{};
+    store(args.outx + i, free ? w0 * y0 + w1 * y1 + w2 * y2 : zero);
+    store(args.outy + i, free ? w1 * y0 + w3 * y1 + w4 * y2 : zero);
+    store(args.outz + i, free ? w2 * y0 + w4 * y1 + w5 * y2 : zero);
+}
+
 template <class T>
 CLOTH_SIMD_CLONES void sweepKernel(const SweepArgs<T>& args, int begin, int end) {
-    const T h2 = args.h2;
-    alignas(64) T sx[kTile], sy[kTile], sz[kTile];
-    for (int first = begin; first < end; first += kTile) {
-        const TileRange tile{first, std::min(kTile, end - first)};
-        for (int t = 0; t < tile.n; ++t) sx[t] = sy[t] = sz[t] = T(0);
-        addOffDiagonal(args.fam, args.families, args.inx, args.iny, args.inz, tile, sx, sy, sz);
-        const T *__restrict rx = args.rx + first, *__restrict ry = args.ry + first, *__restrict rz = args.rz + first;
-        const T *__restrict w0 = args.w0 + first, *__restrict w1 = args.w1 + first, *__restrict w2 = args.w2 + first;
-        const T *__restrict w3 = args.w3 + first, *__restrict w4 = args.w4 + first, *__restrict w5 = args.w5 + first;
-        const T* __restrict pinned = args.pinned + first;
-        T *__restrict outx = args.outx + first, *__restrict outy = args.outy + first, *__restrict outz = args.outz + first;
-CLOTH_IVDEP
-        for (int t = 0; t < tile.n; ++t) {
-            const T y0 = rx[t] + h2 * sx[t], y1 = ry[t] + h2 * sy[t], y2 = rz[t] + h2 * sz[t];
-            const bool free = pinned[t] == T(0);
-            outx[t] = free ? w0[t] * y0 + w1[t] * y1 + w2[t] * y2 : T(0);
-            outy[t] = free ? w1[t] * y0 + w3[t] * y1 + w4[t] * y2 : T(0);
-            outz[t] = free ? w2[t] * y0 + w4[t] * y1 + w5[t] * y2 : T(0);
-        }
-    }
+    int i = begin;
+    for (; i + kLanes<T> <= end; i += kLanes<T>) sweepLanes<T, Pack<T>>(args, i);
+    for (; i < end; ++i) sweepLanes<T, T>(args, i);
 }
 
 // Structure of arrays from the state, and the force that does not come from springs:
@@ -239,18 +226,15 @@ CLOTH_IVDEP
             fx[i] += T(ext[3 * i]), fy[i] += T(ext[3 * i + 1]), fz[i] += T(ext[3 * i + 2]);
 }
 
-// dv back in the state's layout; pinned particles take their prescribed change.
-template <class T, class Field>
-CLOTH_SIMD_CLONES void storeDv(Field* dvf, Field* pinf, const T* __restrict pinned, int pad, double* __restrict out,
-                               int begin, int end) {
-    const T *__restrict dx = dvf[0].at(pad), *__restrict dy = dvf[1].at(pad), *__restrict dz = dvf[2].at(pad);
-    const T *__restrict px = pinf[0].at(pad), *__restrict py = pinf[1].at(pad), *__restrict pz = pinf[2].at(pad);
+// dv back in the state's layout (writeResult then puts the pins' prescribed change).
+template <class T>
+CLOTH_SIMD_CLONES void storeDv(const T* __restrict dx, const T* __restrict dy, const T* __restrict dz,
+                               double* __restrict out, int begin, int end) {
 CLOTH_IVDEP
     for (int i = begin; i < end; ++i) {
-        const bool free = pinned[i] == T(0);
-        out[3 * i] = double(free ? dx[i] : px[i]);
-        out[3 * i + 1] = double(free ? dy[i] : py[i]);
-        out[3 * i + 2] = double(free ? dz[i] : pz[i]);
+        out[3 * i] = double(dx[i]);
+        out[3 * i + 1] = double(dy[i]);
+        out[3 * i + 2] = double(dz[i]);
     }
 }
 
@@ -274,6 +258,11 @@ void StencilKangCho<T>::prepare(const Model& model) {
     families_.assign(offsets_.size(), Family{});
     for (Family& f : families_)
         for (Field* field : {&f.k, &f.rest, &f.ux, &f.uy, &f.uz, &f.a, &f.b, &f.fm}) zero(*field);
+    views_.clear();
+    for (std::size_t f = 0; f < families_.size(); ++f) {
+        Family& F = families_[f];
+        views_.push_back({F.ux.at(pad_), F.uy.at(pad_), F.uz.at(pad_), F.a.at(pad_), F.b.at(pad_), F.fm.at(pad_), offsets_[f]});
+    }
     for (const Spring& s : model.springs()) {
         const int lo = int(std::min(s.i, s.j)), d = int(std::max(s.i, s.j)) - lo;
         const auto f = std::lower_bound(offsets_.begin(), offsets_.end(), d) - offsets_.begin();
@@ -344,27 +333,28 @@ void StencilKangCho<T>::loadDamping(const StepInput& input, T h) {
     }
 }
 
-// Computes u, a, b and the force magnitude of every spring, one contiguous loop per family.
+// Computes every spring's per-slot arrays (StencilFamilyView), one contiguous loop per family.
 template <class T>
 void StencilKangCho<T>::computeSprings(bool compressionRule) {
     const int n = n_, pad = pad_, nf = int(offsets_.size());
     forBlocks(n, [&](int begin, int end) {
-        for (int f = 0; f < nf; ++f) {
-            Family& F = families_[f];
-            springKernel<T>(x_[0].at(pad), x_[1].at(pad), x_[2].at(pad), offsets_[f], F.k.at(pad), F.rest.at(pad),
-                            compressionRule, F.ux.at(pad), F.uy.at(pad), F.uz.at(pad), F.a.at(pad), F.b.at(pad),
-                            F.fm.at(pad), begin, end);
-        }
+        for (int f = 0; f < nf; ++f)
+            springKernel<T>(x_[0].at(pad), x_[1].at(pad), x_[2].at(pad), families_[f].k.at(pad),
+                            families_[f].rest.at(pad), compressionRule, views_[f], begin, end);
     });
 }
 
-// Writes dv back in the state's layout; pinned particles take their prescribed change.
+// Writes dv back in the state's layout; pinned particles take their prescribed change (their dv is
+// 0 in dvA_).
 template <class T>
 void StencilKangCho<T>::writeResult(Points& dv) {
     const int n = n_, pad = pad_;
     dv.resize(3, n);
     double* out = dv.data();
-    forBlocks(n, [&](int begin, int end) { storeDv<T>(dvA_, pin_, pinned_.at(pad), pad, out, begin, end); });
+    const T *dx = dvA_[0].at(pad), *dy = dvA_[1].at(pad), *dz = dvA_[2].at(pad);
+    forBlocks(n, [&](int begin, int end) { storeDv<T>(dx, dy, dz, out, begin, end); });
+    for (const int i : pinnedList_)
+        for (int a = 0; a < 3; ++a) out[3 * i + a] = double(pin_[a].at(pad)[i]);
 }
 
 template <class T>
@@ -377,14 +367,9 @@ void StencilKangCho<T>::solve(const StepProblem& problem, int iterations, Points
     loadFields(env, state, input);
     setPins(state, input);
     loadDamping(input, h);
-    computeSprings(compressionRule);
 
-    // Per particle: b_i, W_ii^-1 and dv(0).
-    FamilyView<T> views[kMaxFamilies] = {};
-    for (int f = 0; f < nf; ++f) {
-        Family& F = families_[f];
-        views[f] = {F.ux.at(pad), F.uy.at(pad), F.uz.at(pad), F.a.at(pad), F.b.at(pad), F.fm.at(pad), offsets_[f]};
-    }
+    // The springs, then per particle: b_i, W_ii^-1 and dv(0).
+    const FamilyView<T>* views = views_.data();
     ParticleArgs<T> pa;
     pa.fam = views, pa.families = nf;
     pa.vx = v_[0].at(pad), pa.vy = v_[1].at(pad), pa.vz = v_[2].at(pad);
@@ -397,6 +382,7 @@ void StencilKangCho<T>::solve(const StepProblem& problem, int iterations, Points
     pa.dx = dvA_[0].at(pad), pa.dy = dvA_[1].at(pad), pa.dz = dvA_[2].at(pad);
     for (int e = 0; e < 6; ++e) pa.damp[e] = damp_[e].at(pad);
     pa.h = h, pa.c = c;
+    computeSprings(compressionRule);
     forBlocks(n, [&](int begin, int end) { particleKernel(pa, begin, end); });
     if (forcesMs) *forcesMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 

@@ -10,10 +10,11 @@
 //    contributes exact zeros);
 //  - particle i meets family f twice, at slots i (other end i + d) and i - d (other end i - d):
 //    contiguous loads with constant offsets, so every loop vectorizes with no gathers.
-// Every kernel is compiled twice (x86-64-v3: AVX2 + FMA, and the baseline) and the loader picks
-// the one the CPU runs (GCC target_clones). Loops are split across threads in blocks of 8
-// elements, so a thread count never changes which elements run in vector or scalar code: the
-// result is bit-identical for any thread count.
+// The particle passes hold each particle's sums in registers, a pack of 8 floats or 4 doubles at a
+// time (pack.h), while they walk the families. Every kernel is compiled for three CPU levels
+// (simd.h) and the loader picks the one the CPU runs (GCC target_clones). A pack and a scalar
+// round alike, so neither the CPU level nor the thread count (loops are split across threads in
+// blocks of 8 elements) changes a bit of the result.
 
 #include <vector>
 
@@ -25,6 +26,14 @@ namespace cloth {
 // per (lower end, offset) and the padded slots cost at most twice the springs; else empty.
 std::vector<int> springFamilies(const Model& model);
 constexpr int kMaxFamilies = 8;
+
+// One family's per-slot arrays as the kernels see them: the spring's direction u, its Jacobian's a
+// and b (J = a I + b u u^T), and its force magnitude fm (the force on the lower end is fm u).
+template <class T>
+struct StencilFamilyView {
+    T *ux, *uy, *uz, *a, *b, *fm;
+    int d;
+};
 
 template <class T>
 class StencilKangCho final : public KangChoLayout {
@@ -51,11 +60,12 @@ private:
 
     int n_ = 0, pad_ = 0;
     std::vector<int> offsets_;
-    // Per family: stiffness and rest length per slot (static); u, a, b, force magnitude (per step).
+    // Per family: stiffness and rest length per slot (static); the rest per step (StencilFamilyView).
     struct Family {
         Field k, rest, ux, uy, uz, a, b, fm;
     };
     std::vector<Family> families_;
+    std::vector<StencilFamilyView<T>> views_;  // into families_
     // w = v + the prescribed dv of pinned particles; pin = that dv (0 if free).
     std::vector<int> pinnedList_;
     Field mass_, x_[3], v_[3], w_[3], f0_[3], pin_[3], pinned_, rhs_[3], winv_[6], dvA_[3], dvB_[3];
