@@ -70,44 +70,47 @@ CLOTH_IVDEP
     }
 }
 
-// y (tile of rows) += O x for the spring blocks O = -(c I + g g^T) (BandedSprings::spring) and x
-// (three arrays).
-template <class T>
-CLOTH_INLINE inline void addSpringTimes(const T* __restrict g0, const T* __restrict g1, const T* __restrict g2,
-                                        const T* __restrict c, const T* __restrict x0, const T* __restrict x1,
-                                        const T* __restrict x2, int count, T* __restrict y0, T* __restrict y1,
-                                        T* __restrict y2) {
-CLOTH_IVDEP
-    for (int t = 0; t < count; ++t) {
-        const T gx = g0[t] * x0[t] + g1[t] * x1[t] + g2[t] * x2[t];
-        y0[t] -= c[t] * x0[t] + gx * g0[t];
-        y1[t] -= c[t] * x1[t] + gx * g1[t];
-        y2[t] -= c[t] * x2[t] + gx * g2[t];
+// (y0, y1, y2) += O x for the spring blocks O = -(c I + g g^T) (BandedSprings::spring, at the
+// rows) and x (three arrays, at the columns).
+template <class T, class V>
+CLOTH_INLINE inline void addSpringTimes(const T* g0, const T* g1, const T* g2, const T* c, const T* x0, const T* x1,
+                                        const T* x2, V& y0, V& y1, V& y2) {
+    const V G0 = load<V>(g0), G1 = load<V>(g1), G2 = load<V>(g2), C = load<V>(c);
+    const V X0 = load<V>(x0), X1 = load<V>(x1), X2 = load<V>(x2);
+    const V gx = G0 * X0 + G1 * X1 + G2 * X2;
+    y0 -= C * X0 + gx * G0;
+    y1 -= C * X1 + gx * G1;
+    y2 -= C * X2 + gx * G2;
+}
+
+// Rows i... of b - W x (or W x): the diagonal blocks of W, then each band's springs from the
+// row's lower and upper side, in that order for every row.
+template <class T, class V>
+CLOTH_INLINE inline void springBandLanes(const BlockMatrix<T>& W, const BandedSprings<T>& S, const T* X0, const T* X1,
+                                         const T* X2, const T* b, T* out, int i) {
+    V y0{}, y1{}, y2{};
+    const std::size_t s = W.stride;
+    const T* D = W.values.data() + W.pad;
+    addBlockTimes(D + i, D + s + i, D + 2 * s + i, D + 3 * s + i, D + 4 * s + i, D + 5 * s + i, X0 + i, X1 + i, X2 + i,
+                  y0, y1, y2);
+    const int bands = int(S.offsets.size());
+    for (int k = 0; k < bands; ++k) {
+        const int o = S.offsets[k];
+        for (const int side : {1, -1}) {
+            const int row = i + (side > 0 ? 0 : -o), col = i + side * o;
+            addSpringTimes(S.sp(k, 0) + row, S.sp(k, 1) + row, S.sp(k, 2) + row, S.sp(k, 3) + row, X0 + col, X1 + col,
+                           X2 + col, y0, y1, y2);
+        }
     }
+    storeRows(y0, y1, y2, b ? b + 3 * std::size_t(i) : nullptr, out + 3 * std::size_t(i));
 }
 
 template <class T>
 CLOTH_SIMD_CLONES void springBandRows(const BlockMatrix<T>& W, const BandedSprings<T>& S, const T* X0, const T* X1,
                                       const T* X2, const T* b, T* out, int begin, int end) {
-    alignas(64) T y0[kTile], y1[kTile], y2[kTile];
-    const std::size_t s = W.stride;
-    const T* D = W.values.data() + W.pad;
-    const int bands = int(S.offsets.size());
-    for (int first = begin; first < end; first += kTile) {
-        const int count = std::min(kTile, end - first);
-        std::fill(y0, y0 + count, T(0)), std::fill(y1, y1 + count, T(0)), std::fill(y2, y2 + count, T(0));
-        addBlockTimes(D + first, D + s + first, D + 2 * s + first, D + 3 * s + first, D + 4 * s + first,
-                      D + 5 * s + first, X0 + first, X1 + first, X2 + first, count, y0, y1, y2);
-        for (int k = 0; k < bands; ++k) {
-            const int o = S.offsets[k];
-            for (const int side : {1, -1}) {
-                const int row = first + (side > 0 ? 0 : -o), col = first + side * o;
-                addSpringTimes(S.sp(k, 0) + row, S.sp(k, 1) + row, S.sp(k, 2) + row, S.sp(k, 3) + row, X0 + col,
-                               X1 + col, X2 + col, count, y0, y1, y2);
-            }
-        }
-        storeTile(y0, y1, y2, count, b ? b + 3 * std::size_t(first) : nullptr, out + 3 * std::size_t(first));
-    }
+    int i = begin;
+    for (; i + kLanes<T> <= end; i += kLanes<T>) springBandLanes<T, Pack<T>>(W, S, X0, X1, X2, b, out, i);
+    for (; i < end; ++i) springBandLanes<T, T>(W, S, X0, X1, X2, b, out, i);
 }
 
 // Rows [begin, end): D_i = base_i - sum over bands of (O_k[i] + O_k[i - o_k]) (from the blocks

@@ -1,34 +1,36 @@
 #pragma once
-// The inner loops that the banded products share (block_matrix.cpp, banded_springs.cpp): always
-// inlined, so that each runs in the SIMD clone of its caller.
+// The inner steps that the banded products share (block_matrix.cpp, banded_springs.cpp), for the
+// rows i... of one V: a pack of lanes (../pack.h) or, at a range's tail, one row (V = T). Always
+// inlined, so that each runs in the SIMD clone of its caller; the sums stay in registers while a
+// product walks its bands.
 
-#include "../simd.h"
+#include "../pack.h"
 
 namespace cloth {
 
-// y (tile of rows) += S x for the symmetric blocks S (six arrays) and x (three arrays).
-template <class T>
-CLOTH_INLINE inline void addBlockTimes(const T* __restrict s0, const T* __restrict s1, const T* __restrict s2,
-                                       const T* __restrict s3, const T* __restrict s4, const T* __restrict s5,
-                                       const T* __restrict x0, const T* __restrict x1, const T* __restrict x2,
-                                       int count, T* __restrict y0, T* __restrict y1, T* __restrict y2) {
-CLOTH_IVDEP
-    for (int t = 0; t < count; ++t) {
-        y0[t] += s0[t] * x0[t] + s1[t] * x1[t] + s2[t] * x2[t];
-        y1[t] += s1[t] * x0[t] + s3[t] * x1[t] + s4[t] * x2[t];
-        y2[t] += s2[t] * x0[t] + s4[t] * x1[t] + s5[t] * x2[t];
-    }
+// (y0, y1, y2) += S x for the symmetric blocks S (six arrays, at the rows) and x (three arrays,
+// at the columns).
+template <class T, class V>
+CLOTH_INLINE inline void addBlockTimes(const T* s0, const T* s1, const T* s2, const T* s3, const T* s4, const T* s5,
+                                       const T* x0, const T* x1, const T* x2, V& y0, V& y1, V& y2) {
+    const V S0 = load<V>(s0), S1 = load<V>(s1), S2 = load<V>(s2), S3 = load<V>(s3), S4 = load<V>(s4), S5 = load<V>(s5);
+    const V X0 = load<V>(x0), X1 = load<V>(x1), X2 = load<V>(x2);
+    y0 += S0 * X0 + S1 * X1 + S2 * X2;
+    y1 += S1 * X0 + S3 * X1 + S4 * X2;
+    y2 += S2 * X0 + S4 * X1 + S5 * X2;
 }
 
-// A tile of a product's rows, W x in three arrays, into out (interleaved): b - W x, or W x
-// without b.
-template <class T>
-CLOTH_INLINE inline void storeTile(const T* y0, const T* y1, const T* y2, int count, const T* b, T* out) {
+// The rows' W x, in three V, into out (interleaved, at the first row): b - W x, or W x without b.
+template <class T, class V>
+CLOTH_INLINE inline void storeRows(const V& y0, const V& y1, const V& y2, const T* b, T* out) {
+    constexpr int lanes = int(sizeof(V) / sizeof(T));
+    T t0[lanes], t1[lanes], t2[lanes];
+    store(t0, y0), store(t1, y1), store(t2, y2);
     if (b) {
-        for (int t = 0; t < count; ++t)
-            out[3 * t] = b[3 * t] - y0[t], out[3 * t + 1] = b[3 * t + 1] - y1[t], out[3 * t + 2] = b[3 * t + 2] - y2[t];
+        for (int l = 0; l < lanes; ++l)
+            out[3 * l] = b[3 * l] - t0[l], out[3 * l + 1] = b[3 * l + 1] - t1[l], out[3 * l + 2] = b[3 * l + 2] - t2[l];
     } else {
-        for (int t = 0; t < count; ++t) out[3 * t] = y0[t], out[3 * t + 1] = y1[t], out[3 * t + 2] = y2[t];
+        for (int l = 0; l < lanes; ++l) out[3 * l] = t0[l], out[3 * l + 1] = t1[l], out[3 * l + 2] = t2[l];
     }
 }
 

@@ -8,27 +8,33 @@ namespace cloth {
 
 namespace {
 
+// Rows i... of b - W x (or W x without b) for the banded W: its diagonal band, then each band
+// from the row's lower and upper side, in that order for every row.
+template <class T, class V>
+CLOTH_INLINE inline void bandedLanes(const BlockMatrix<T>& W, const T* X0, const T* X1, const T* X2, const T* b, T* out,
+                                     int i) {
+    V y0{}, y1{}, y2{};
+    const std::size_t s = W.stride;
+    const int bands = int(W.offsets.size());
+    for (int k = 0; k <= bands; ++k) {
+        const T* B = W.values.data() + 6 * std::size_t(k) * s + W.pad;
+        for (const int side : {1, -1}) {
+            if (k == 0 && side < 0) break;
+            const int o = k == 0 ? 0 : W.offsets[k - 1];
+            const int row = i + (side > 0 ? 0 : -o), col = i + side * o;
+            addBlockTimes(B + row, B + s + row, B + 2 * s + row, B + 3 * s + row, B + 4 * s + row, B + 5 * s + row,
+                          X0 + col, X1 + col, X2 + col, y0, y1, y2);
+        }
+    }
+    storeRows(y0, y1, y2, b ? b + 3 * std::size_t(i) : nullptr, out + 3 * std::size_t(i));
+}
+
 template <class T>
 CLOTH_SIMD_CLONES void bandedRows(const BlockMatrix<T>& W, const T* X0, const T* X1, const T* X2, const T* b, T* out,
                                   int begin, int end) {
-    alignas(64) T y0[kTile], y1[kTile], y2[kTile];
-    const std::size_t s = W.stride;
-    const int bands = int(W.offsets.size());
-    for (int first = begin; first < end; first += kTile) {
-        const int count = std::min(kTile, end - first);
-        std::fill(y0, y0 + count, T(0)), std::fill(y1, y1 + count, T(0)), std::fill(y2, y2 + count, T(0));
-        for (int k = 0; k <= bands; ++k) {
-            const T* B = W.values.data() + 6 * std::size_t(k) * s + W.pad;
-            for (const int side : {1, -1}) {
-                if (k == 0 && side < 0) break;
-                const int o = k == 0 ? 0 : W.offsets[k - 1];
-                const int row = first + (side > 0 ? 0 : -o), col = first + side * o;
-                addBlockTimes(B + row, B + s + row, B + 2 * s + row, B + 3 * s + row, B + 4 * s + row,
-                              B + 5 * s + row, X0 + col, X1 + col, X2 + col, count, y0, y1, y2);
-            }
-        }
-        storeTile(y0, y1, y2, count, b ? b + 3 * std::size_t(first) : nullptr, out + 3 * std::size_t(first));
-    }
+    int i = begin;
+    for (; i + kLanes<T> <= end; i += kLanes<T>) bandedLanes<T, Pack<T>>(W, X0, X1, X2, b, out, i);
+    for (; i < end; ++i) bandedLanes<T, T>(W, X0, X1, X2, b, out, i);
 }
 
 }  // namespace
