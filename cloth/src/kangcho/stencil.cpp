@@ -62,19 +62,21 @@ CLOTH_IVDEP
 // from its upper end (slot i - d, other end i - d, sign -1). The range's last few particles run
 // the same code on scalars (V = T), with the same bits.
 
-// The spring side (f, side) as seen from particles i...: its slot and the other end's index.
+// One end of a family's springs as particle i sees it: the family's arrays shifted so that
+// particle i's slot is at [i] (by 0 from the lower end, by -d from the upper), the offset of the
+// other end (+d or -d) and the sign of the force (+1 or -1). solve() lists the lower and the upper
+// end of each family in turn, the order of the sums.
 template <class T>
 struct SpringSide {
-    const FamilyView<T>& F;
-    int slot, other;
-    SpringSide(const FamilyView<T>& family, int side, int i)
-        : F(family), slot(i + (side > 0 ? 0 : -family.d)), other(i + side * family.d) {}
+    const T *ux, *uy, *uz, *a, *b, *fm;
+    int other;
+    T sign;
 };
 
 template <class T>
 struct ParticleArgs {
-    const FamilyView<T>* fam;
-    int families;
+    const SpringSide<T>* sides;
+    int sideCount;
     const T *vx, *vy, *vz, *wx, *wy, *wz, *f0x, *f0y, *f0z, *pinned, *mass;
     const T* damp[6];  // h C_i of the external force (xx xy xz yy yz zz), zero when explicit
     T *rx, *ry, *rz, *w0, *w1, *w2, *w3, *w4, *w5, *dx, *dy, *dz;
@@ -92,19 +94,19 @@ template <class T, class V>
 CLOTH_INLINE inline SpringSums<V> springSums(const ParticleArgs<T>& args, int i) {
     SpringSums<V> s{};
     s.fx = load<V>(args.f0x + i), s.fy = load<V>(args.f0y + i), s.fz = load<V>(args.f0z + i);
-    for (int f = 0; f < args.families; ++f)
-        for (const int side : {1, -1}) {
-            const SpringSide<T> at(args.fam[f], side, i);
-            const V x = load<V>(at.F.ux + at.slot), y = load<V>(at.F.uy + at.slot), z = load<V>(at.F.uz + at.slot);
-            const V a = load<V>(at.F.a + at.slot), b = load<V>(at.F.b + at.slot);
-            const V fs = T(side) * load<V>(at.F.fm + at.slot);
-            s.fx += fs * x, s.fy += fs * y, s.fz += fs * z;
-            s.A += a;
-            s.Bxx += b * x * x, s.Bxy += b * x * y, s.Bxz += b * x * z;
-            s.Byy += b * y * y, s.Byz += b * y * z, s.Bzz += b * z * z;
-            addJacobianTimes(a, b, x, y, z, load<V>(args.wx + at.other), load<V>(args.wy + at.other),
-                             load<V>(args.wz + at.other), s.jx, s.jy, s.jz);
-        }
+    for (int k = 0; k < args.sideCount; ++k) {
+        const SpringSide<T>& S = args.sides[k];
+        const int j = i + S.other;
+        const V x = load<V>(S.ux + i), y = load<V>(S.uy + i), z = load<V>(S.uz + i);
+        const V a = load<V>(S.a + i), b = load<V>(S.b + i);
+        const V fs = S.sign * load<V>(S.fm + i);
+        s.fx += fs * x, s.fy += fs * y, s.fz += fs * z;
+        s.A += a;
+        s.Bxx += b * x * x, s.Bxy += b * x * y, s.Bxz += b * x * z;
+        s.Byy += b * y * y, s.Byz += b * y * z, s.Bzz += b * z * z;
+        addJacobianTimes(a, b, x, y, z, load<V>(args.wx + j), load<V>(args.wy + j), load<V>(args.wz + j), s.jx, s.jy,
+                         s.jz);
+    }
     return s;
 }
 
@@ -150,8 +152,8 @@ CLOTH_SIMD_CLONES void particleKernel(const ParticleArgs<T>& args, int begin, in
 
 template <class T>
 struct SweepArgs {
-    const FamilyView<T>* fam;
-    int families;
+    const SpringSide<T>* sides;
+    int sideCount;
     const T *rx, *ry, *rz, *w0, *w1, *w2, *w3, *w4, *w5, *pinned, *inx, *iny, *inz;
     T *outx, *outy, *outz;
     T h2;
@@ -162,13 +164,12 @@ struct SweepArgs {
 template <class T, class V>
 CLOTH_INLINE inline void sweepLanes(const SweepArgs<T>& args, int i) {
     V sx{}, sy{}, sz{};
-    for (int f = 0; f < args.families; ++f)
-        for (const int side : {1, -1}) {
-            const SpringSide<T> at(args.fam[f], side, i);
-            addJacobianTimes(load<V>(at.F.a + at.slot), load<V>(at.F.b + at.slot), load<V>(at.F.ux + at.slot),
-                             load<V>(at.F.uy + at.slot), load<V>(at.F.uz + at.slot), load<V>(args.inx + at.other),
-                             load<V>(args.iny + at.other), load<V>(args.inz + at.other), sx, sy, sz);
-        }
+    for (int k = 0; k < args.sideCount; ++k) {
+        const SpringSide<T>& S = args.sides[k];
+        const int j = i + S.other;
+        addJacobianTimes(load<V>(S.a + i), load<V>(S.b + i), load<V>(S.ux + i), load<V>(S.uy + i), load<V>(S.uz + i),
+                         load<V>(args.inx + j), load<V>(args.iny + j), load<V>(args.inz + j), sx, sy, sz);
+    }
     const T h2 = args.h2;
     const V y0 = load<V>(args.rx + i) + h2 * sx, y1 = load<V>(args.ry + i) + h2 * sy, y2 = load<V>(args.rz + i) + h2 * sz;
     const V w0 = load<V>(args.w0 + i), w1 = load<V>(args.w1 + i), w2 = load<V>(args.w2 + i);
@@ -369,9 +370,15 @@ void StencilKangCho<T>::solve(const StepProblem& problem, int iterations, Points
     loadDamping(input, h);
 
     // The springs, then per particle: b_i, W_ii^-1 and dv(0).
-    const FamilyView<T>* views = views_.data();
+    SpringSide<T> sides[2 * kMaxFamilies];
+    for (int f = 0; f < nf; ++f) {
+        const FamilyView<T>& F = views_[f];
+        const int d = F.d;
+        sides[2 * f] = {F.ux, F.uy, F.uz, F.a, F.b, F.fm, d, T(1)};
+        sides[2 * f + 1] = {F.ux - d, F.uy - d, F.uz - d, F.a - d, F.b - d, F.fm - d, -d, T(-1)};
+    }
     ParticleArgs<T> pa;
-    pa.fam = views, pa.families = nf;
+    pa.sides = sides, pa.sideCount = 2 * nf;
     pa.vx = v_[0].at(pad), pa.vy = v_[1].at(pad), pa.vz = v_[2].at(pad);
     pa.f0x = f0_[0].at(pad), pa.f0y = f0_[1].at(pad), pa.f0z = f0_[2].at(pad);
     pa.wx = w_[0].at(pad), pa.wy = w_[1].at(pad), pa.wz = w_[2].at(pad);
@@ -388,7 +395,7 @@ void StencilKangCho<T>::solve(const StepProblem& problem, int iterations, Points
 
     // Jacobi sweeps from dv(0).
     SweepArgs<T> sa;
-    sa.fam = views, sa.families = nf;
+    sa.sides = sides, sa.sideCount = 2 * nf;
     sa.rx = pa.rx, sa.ry = pa.ry, sa.rz = pa.rz;
     sa.w0 = pa.w0, sa.w1 = pa.w1, sa.w2 = pa.w2, sa.w3 = pa.w3, sa.w4 = pa.w4, sa.w5 = pa.w5;
     sa.pinned = pa.pinned;
