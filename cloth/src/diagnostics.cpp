@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "cloth/forces.h"
-#include "simd.h"
 
 namespace cloth {
 
@@ -22,24 +21,24 @@ void maxAndP99(std::vector<Scalar>& values, Scalar& maxOut, Scalar& p99Out) {
     maxOut = *std::max_element(values.begin() + rank, values.end());
 }
 
-// The common case of firstNonFinite in one vectorized pass: x * 0 is 0 for a finite x and NaN
-// otherwise, and a NaN stays in a sum (eight independent sums, so the loop needs no reassociation
-// to vectorize).
-CLOTH_SIMD_CLONES bool anyNonFinite(const Scalar* d, Index n) {
-    Scalar acc[8] = {};
-    Index k = 0;
-    for (; k + 8 <= n; k += 8)
-        for (int l = 0; l < 8; ++l) acc[l] += d[k + l] * Scalar(0);
-    for (; k < n; ++k) acc[0] += d[k] * Scalar(0);
-    Scalar sum = 0;
-    for (Scalar a : acc) sum += a;
-    return sum != 0;
-}
-
 }  // namespace
 
 Index firstNonFinite(const State& state) {
-    if (!anyNonFinite(state.x.data(), state.x.size()) && !anyNonFinite(state.v.data(), state.v.size())) return -1;
+    // The common case in one vectorizable pass: x * 0 is 0 for a finite x and NaN otherwise, and
+    // a NaN stays in a sum (eight independent sums, so the loop needs no reassociation to vectorize).
+    auto anyNonFinite = [](const Points& p) {
+        const Scalar* d = p.data();
+        const Index n = p.size();
+        Scalar acc[8] = {};
+        Index k = 0;
+        for (; k + 8 <= n; k += 8)
+            for (int l = 0; l < 8; ++l) acc[l] += d[k + l] * Scalar(0);
+        for (; k < n; ++k) acc[0] += d[k] * Scalar(0);
+        Scalar sum = 0;
+        for (Scalar a : acc) sum += a;
+        return sum != 0;
+    };
+    if (!anyNonFinite(state.x) && !anyNonFinite(state.v)) return -1;
     for (Index i = 0; i < static_cast<Index>(state.x.cols()); ++i)
         if (!state.x.col(i).allFinite() || !state.v.col(i).allFinite()) return i;
     return -1;

@@ -2,7 +2,6 @@
 
 #include "cloth/diagnostics.h"
 #include "cloth/constraints.h"
-#include "simd.h"
 
 #include <iterator>
 
@@ -36,19 +35,6 @@ StepResult commit(const Model& model, ConstraintSet& constraints, const StepInpu
     return result;
 }
 
-namespace {
-
-// The end of an implicit step over n numbers: v' = v + dv, x' = x + h v'.
-CLOTH_SIMD_CLONES void integrate(const Scalar* __restrict x, const Scalar* __restrict v, const Scalar* __restrict dv,
-                                 Scalar h, Scalar* __restrict xOut, Scalar* __restrict vOut, Index n) {
-    for (Index k = 0; k < n; ++k) {
-        vOut[k] = v[k] + dv[k];
-        xOut[k] = x[k] + h * vOut[k];
-    }
-}
-
-}  // namespace
-
 StepResult ImplicitSolver::step(const Model& model, const Environment& env, State& state, const StepInput& input) {
     if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
     StepResult result;
@@ -57,9 +43,8 @@ StepResult ImplicitSolver::step(const Model& model, const Environment& env, Stat
     if (result.status != StepStatus::Ok) return result;
 
     const auto t0 = Clock::now();
-    scratch_.x.resize(3, state.x.cols());
-    scratch_.v.resize(3, state.v.cols());
-    integrate(state.x.data(), state.v.data(), dv_.data(), input.h, scratch_.x.data(), scratch_.v.data(), state.x.size());
+    scratch_.v = state.v + dv_;
+    scratch_.x = state.x + input.h * scratch_.v;
     result = commit(model, constraints_, input, *pool_, state, scratch_, result);
     profile_.integrateMs = msSince(t0);
     return result;
