@@ -34,10 +34,4 @@ CLOTH_INLINE inline void store(T* p, const V& v) {
     std::memcpy(p, &v, sizeof v);
 }
 
-// A V with every lane x (x - 0 is x for every x, -0 included).
-template <class V, class T>
-CLOTH_INLINE inline V broadcast(T x) {
-    return x - V{};
-}
-
 }  // namespace cloth

@@ -28,8 +28,18 @@ std::vector<int> springFamilies(const Model& model) {
 
 namespace {
 
+// One family's per-slot arrays as the kernels see them: the spring's direction u, its Jacobian's a
+// and b (J = a I + b u u^T), and its force magnitude fm (the force on the lower end is fm u).
 template <class T>
-using FamilyView = StencilFamilyView<T>;
+struct FamilyView {
+    T *ux, *uy, *uz, *a, *b, *fm;
+    int d;
+};
+
+template <class T, class Family>
+FamilyView<T> viewOf(Family& F, int pad, int d) {
+    return {F.ux.at(pad), F.uy.at(pad), F.uz.at(pad), F.a.at(pad), F.b.at(pad), F.fm.at(pad), d};
+}
 
 // J q for a spring's Jacobian J = a I + b u u^T, accumulated into (sx, sy, sz).
 template <class T>
@@ -259,11 +269,6 @@ void StencilKangCho<T>::prepare(const Model& model) {
     families_.assign(offsets_.size(), Family{});
     for (Family& f : families_)
         for (Field* field : {&f.k, &f.rest, &f.ux, &f.uy, &f.uz, &f.a, &f.b, &f.fm}) zero(*field);
-    views_.clear();
-    for (std::size_t f = 0; f < families_.size(); ++f) {
-        Family& F = families_[f];
-        views_.push_back({F.ux.at(pad_), F.uy.at(pad_), F.uz.at(pad_), F.a.at(pad_), F.b.at(pad_), F.fm.at(pad_), offsets_[f]});
-    }
     for (const Spring& s : model.springs()) {
         const int lo = int(std::min(s.i, s.j)), d = int(std::max(s.i, s.j)) - lo;
         const auto f = std::lower_bound(offsets_.begin(), offsets_.end(), d) - offsets_.begin();
@@ -334,14 +339,15 @@ void StencilKangCho<T>::loadDamping(const StepInput& input, T h) {
     }
 }
 
-// Computes every spring's per-slot arrays (StencilFamilyView), one contiguous loop per family.
+// Computes u, a, b and the force magnitude of every spring, one contiguous loop per family.
 template <class T>
 void StencilKangCho<T>::computeSprings(bool compressionRule) {
     const int n = n_, pad = pad_, nf = int(offsets_.size());
     forBlocks(n, [&](int begin, int end) {
         for (int f = 0; f < nf; ++f)
             springKernel<T>(x_[0].at(pad), x_[1].at(pad), x_[2].at(pad), families_[f].k.at(pad),
-                            families_[f].rest.at(pad), compressionRule, views_[f], begin, end);
+                            families_[f].rest.at(pad), compressionRule, viewOf<T>(families_[f], pad, offsets_[f]),
+                            begin, end);
     });
 }
 
@@ -372,7 +378,7 @@ void StencilKangCho<T>::solve(const StepProblem& problem, int iterations, Points
     // The springs, then per particle: b_i, W_ii^-1 and dv(0).
     SpringSide<T> sides[2 * kMaxFamilies];
     for (int f = 0; f < nf; ++f) {
-        const FamilyView<T>& F = views_[f];
+        const FamilyView<T> F = viewOf<T>(families_[f], pad, offsets_[f]);
         const int d = F.d;
         sides[2 * f] = {F.ux, F.uy, F.uz, F.a, F.b, F.fm, d, T(1)};
         sides[2 * f + 1] = {F.ux - d, F.uy - d, F.uz - d, F.a - d, F.b - d, F.fm - d, -d, T(-1)};

@@ -27,14 +27,6 @@ namespace cloth {
 std::vector<int> springFamilies(const Model& model);
 constexpr int kMaxFamilies = 8;
 
-// One family's per-slot arrays as the kernels see them: the spring's direction u, its Jacobian's a
-// and b (J = a I + b u u^T), and its force magnitude fm (the force on the lower end is fm u).
-template <class T>
-struct StencilFamilyView {
-    T *ux, *uy, *uz, *a, *b, *fm;
-    int d;
-};
-
 template <class T>
 class StencilKangCho final : public KangChoLayout {
 public:
@@ -60,12 +52,11 @@ private:
 
     int n_ = 0, pad_ = 0;
     std::vector<int> offsets_;
-    // Per family: stiffness and rest length per slot (static); the rest per step (StencilFamilyView).
+    // Per family: stiffness and rest length per slot (static); u, a, b, force magnitude (per step).
     struct Family {
         Field k, rest, ux, uy, uz, a, b, fm;
     };
     std::vector<Family> families_;
-    std::vector<StencilFamilyView<T>> views_;  // into families_
     // w = v + the prescribed dv of pinned particles; pin = that dv (0 if free).
     std::vector<int> pinnedList_;
     Field mass_, x_[3], v_[3], w_[3], f0_[3], pin_[3], pinned_, rhs_[3], winv_[6], dvA_[3], dvB_[3];
