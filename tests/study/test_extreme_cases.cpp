@@ -93,3 +93,19 @@ TEST(ExtremeCases, TheSpinTurnsAboutTheDemoChassisOriginOneAndAHalfMetresFromThe
         EXPECT_LT((c.point(study::kSpinAxisPoint) - study::kSpinAxisPoint).norm(), 1e-12) << "t " << t;
     }
 }
+
+// The teleports of other lengths (cloth_study --teleports): named by their length, the pole still
+// until 0.5 s and then that far along +x, without a velocity; the shipped 1 m case is one of them.
+TEST(ExtremeCases, ATeleportOfAnyLengthJumpsThatFarAtHalfASecond) {
+    const study::Extreme t = study::teleport(0.85);
+    EXPECT_EQ(t.name, "teleport_0.85m");
+    EXPECT_EQ(study::teleportName(1.25), "teleport_1.25m");
+    EXPECT_EQ(t.jumpAt, 0.5);
+    EXPECT_EQ(t.carrier(0.5 - 1.0 / 240).position, Vector3d::Zero());
+    EXPECT_EQ(t.carrier(0.5).position, Vector3d(0.85, 0, 0));
+    EXPECT_EQ(t.carrier(1.7).linearVelocity, Vector3d::Zero());
+    const study::Extreme one = caseNamed("teleport_1m");
+    EXPECT_EQ(one.carrier(0.49).position, Vector3d::Zero());
+    EXPECT_EQ(one.carrier(0.5).position, Vector3d(1, 0, 0));
+    EXPECT_EQ(one.duration, t.duration);
+}

@@ -49,6 +49,20 @@ void addSpeedCases(std::vector<Extreme>& e) {
 
 }  // namespace
 
+std::string teleportName(double metres) {
+    std::ostringstream name;
+    name << "teleport_" << metres << "m";
+    return name.str();
+}
+
+Extreme teleport(double metres) {
+    return {teleportName(metres), 2, [metres](double t) {  // the pole jumps sideways in one step at 0.5 s
+                RigidFrame c;
+                if (t >= 0.5) c.position = Vec3(metres, 0, 0);
+                return c;
+            }, 1, 0, 0.5};
+}
+
 std::vector<Extreme> extremes() {
     std::vector<Extreme> e;
     addSpeedCases(e);
@@ -58,11 +72,7 @@ std::vector<Extreme> extremes() {
                      const double angle = t < 0.5 ? 5 * t * t : 1.25 + 5 * (t - 0.5);
                      return turnedAbout(kSpinAxisPoint, angle, w);
                  }});
-    e.push_back({"teleport_1m", 2, [](double t) {  // the pole jumps 1 m sideways in one step
-                     RigidFrame c;
-                     if (t >= 0.5) c.position = Vec3(1, 0, 0);
-                     return c;
-                 }, 1, 0, 0.5});
+    e.push_back(teleport(1));
     e.push_back({"light_particles", 3, [](double t) {  // 1/100 of the mass, driven at 20 m/s
                      RigidFrame c;
                      c.position = Vec3(0, 0, 20 * t);

@@ -39,6 +39,11 @@ engine::RigidFrame turnedAbout(const Eigen::Vector3d& axisPoint, double angle, d
 // light_particles, gale_40mps (the first and the last flutter).
 std::vector<Extreme> extremes();
 
+// The teleport case with a jump of `metres` (teleport_1m is teleport(1)): the pole jumps that far
+// along +x at t = 0.5 s, without a velocity. Its name is teleportName(metres), e.g. teleport_0.9m.
+Extreme teleport(double metres);
+std::string teleportName(double metres);
+
 // The demo's flag in case x at another resolution: same size, mass and stiffness, same aspect;
 // the case's mass scale and wind.
 engine::SceneConfig extremeScene(const engine::SceneConfig& demo, const Extreme& x, int size);

@@ -1,5 +1,6 @@
 #include "study_options.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 
@@ -35,6 +36,10 @@ and in six extreme cases, every configuration against the flag's fine-step refer
   --flags LIST         the front's flags: demo, stiff (default both)
   --paths LIST         the front's paths: drive and the extreme cases (speed_50mps, stop_10g,
                        spin_5radps, teleport_1m, light_particles, gale_40mps)
+  --teleports LIST     more paths: teleports of other lengths, comma-separated, in m (0 < d <= 10,
+                       not 1), each a path teleport_<d>m (e.g. teleport_0.9m) like teleport_1m:
+                       how much of one trajectory's figures is the chaos after the jump (with
+                       --paths, name them there too)
   --configs LIST       comma-separated subset of the front's configurations (by name)
   --add-configs L      more configurations: NAME=SPEC@HZ or NAME=SPEC@HZxSUBSTEPS, ';'-separated
                        (e.g. "bdf2_90=newton:integrator=bdf2@90"); pick them with --configs
@@ -66,6 +71,19 @@ std::string readSides(const std::string& option, const std::string& text, long l
     return {};
 }
 
+// A comma-separated list of teleport lengths into `out`; the error names the value, or is empty.
+std::string readTeleports(const std::string& text, std::vector<double>& out) {
+    for (const std::string& v : split(text, ',')) {
+        char* end = nullptr;
+        const double d = std::strtod(v.c_str(), &end);
+        if (*end != '\0' || !(d > 0 && d <= 10) || d == 1)
+            return "--teleports: '" + v + "' is not a length in (0, 10] m other than 1 (teleport_1m is a case already)";
+        if (std::find(out.begin(), out.end(), d) != out.end()) return "--teleports: '" + v + "' is named twice";
+        out.push_back(d);
+    }
+    return {};
+}
+
 // The option at argv[i] that takes a value (the value at argv[++i]); -1 to go on, else an exit code.
 int readValueOption(const std::string& a, const char* value, StudyOptions& o) {
     if (a == "--export-nvidia-newton") o.exportDir = value;
@@ -86,6 +104,8 @@ int readValueOption(const std::string& a, const char* value, StudyOptions& o) {
         if (std::sscanf(v.c_str(), "%d/%d", &o.shard, &o.shards) != 2 || o.shards < 1 || o.shards > 1000 || o.shard < 1 ||
             o.shard > o.shards || v.find_first_not_of("0123456789/") != std::string::npos)
             return usageError("--shard: '" + v + "' is not K/N with 1 <= K <= N <= 1000");
+    } else if (a == "--teleports") {
+        if (const std::string bad = readTeleports(value, o.teleports); !bad.empty()) return usageError(bad);
     } else if (a == "--front-sizes") {
         if (const std::string bad = readSides(a, value, 5, 257, o.frontSizes); !bad.empty()) return usageError(bad);
     } else if (a == "--scenes") {

@@ -15,6 +15,7 @@ struct StudyOptions {
     std::vector<int> sizeOverride;  // part 1's sizes instead of its list
     std::string out = "out/study", exportDir, demoScenePath = "flag_vehicle";
     std::vector<std::string> sceneFilter, solverSpecs, configFilter, pathFilter, flagFilter, extraConfigs;
+    std::vector<double> teleports;  // more teleport paths, by the jump in m (--teleports)
 };
 
 // Reads the command line into `o`. Returns -1 to go on, else the exit code: 0 after --help, 2 for
