@@ -86,13 +86,14 @@ bool chooseFlags(const std::vector<std::string>& names, std::vector<FlagKind>& o
     return true;
 }
 
-// The paths: the demo's drive, then the extreme cases (--quick: the drive, the 10 g stop and the
-// gale).
+// The paths: the demo's drive, the extreme cases (--quick: the drive, the 10 g stop and the gale),
+// then the teleports of --teleports.
 std::vector<Extreme> pathsOf(const StudyOptions& o, const engine::SceneConfig& demo) {
     std::vector<Extreme> paths = {driveCase(demo)};
     for (const Extreme& x : extremes()) paths.push_back(x);
     if (o.quick && o.pathFilter.empty())
         std::erase_if(paths, [](const Extreme& x) { return x.name != "drive" && x.name != "stop_10g" && x.name != "gale_40mps"; });
+    for (double metres : o.teleports) paths.push_back(teleport(metres));
     return paths;
 }
 
@@ -136,8 +137,9 @@ int main(int argc, char** argv) {
     const long configRows = runSolveError(o, configs, work);
     const long frontRows = o.front ? runFront(o, w.flags, w.flagKinds, w.paths, w.sizes, w.configs, work) : 0;
     writeShardInfo(o, configRows, frontRows);
-    std::fprintf(stderr, "\nstudy done in %.0f s: %s/error_vs_runtime.csv%s\n",
-                 std::chrono::duration<double>(Clock::now() - t0).count(), o.out.c_str(),
-                 o.front ? (", " + o.out + "/front.csv").c_str() : "");
+    std::string written = o.frontOnly ? "" : o.out + "/error_vs_runtime.csv";
+    if (o.front) written += (written.empty() ? "" : ", ") + o.out + "/front.csv";
+    std::fprintf(stderr, "\nstudy done in %.0f s: %s\n", std::chrono::duration<double>(Clock::now() - t0).count(),
+                 written.c_str());
     return 0;
 }
