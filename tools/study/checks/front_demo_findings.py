@@ -49,8 +49,41 @@ def c_demo_true_motion_costs(docs):
             f"where explicit_32's is {kept[1]:.2f}x and {kept[3]:.2f}x")
 
 
+def demo_teleports(docs, config):
+    """teleports_demo.csv's rows of one configuration, by jump length in m."""
+    rows = [r for r in docs.rows("teleports_demo.csv") if r["flag"] == "demo" and r["size"] == "33" and r["config"] == config]
+    return {float(r["path"][len("teleport_"):-1]): r for r in rows}
+
+
+def c_demo_teleport_reference_unconverged(docs):
+    p99 = {c: {d: num(r["p99_stretch"]) for d, r in demo_teleports(docs, c).items()}
+           for c in ("reference", "reference_half_step", "reference_quarter_step", "newton_bdf2_960")}
+    jumps = sorted(p99["reference"])
+    need(len(jumps) >= 9 and 1.0 in jumps and all(sorted(v) == jumps for v in p99.values()),
+         f"teleports_demo.csv: jumps {[sorted(v) for v in p99.values()]} (docs: the same eleven for each)")
+    span = {c: (min(v.values()), max(v.values())) for c, v in p99.items()}
+    need(span["reference"][1] > 3 * span["reference_quarter_step"][1] and span["reference_quarter_step"][1] < 0.12
+         and span["reference_half_step"][1] < 0.16,
+         f"teleports_demo.csv: the demo reference's p99 after a teleport {span} (docs: up to 59% at its step, 15% at half, 11% at a quarter)")
+    stiff = {c: {r["path"]: num(r["p99_stretch"]) for r in docs.rows("teleports_stiff.csv") if r["config"] == c}
+             for c in ("reference", "reference_half_step")}
+    gap = max(abs(v - stiff["reference_half_step"][p]) for p, v in stiff["reference"].items())
+    need(gap <= 0.012, f"teleports_stiff.csv: the stiff reference's p99 moves {gap:.1%} under halving (docs: 1.2 points at most)")
+    one = front(docs, "demo", "teleport_1m", "reference")
+    need(num(one["p99_stretch"]) == p99["reference"][1.0], "teleports_demo.csv and front.csv disagree on the reference's 1 m teleport")
+    bdf2 = front(docs, "demo", "teleport_1m", "newton_bdf2_960")
+    need(not bdf2["misses"] and p99["newton_bdf2_960"][1.0] > 2 * p99["reference_quarter_step"][1.0],
+         f"front.csv: newton_bdf2_960 on the demo's 1 m teleport misses {bdf2['misses']!r}, p99 {p99['newton_bdf2_960'][1.0]:.3f} "
+         "(docs: within, at over twice the quarter-step reference's p99)")
+    f = lambda c: f"{span[c][0]:.1%}-{span[c][1]:.1%}"
+    return (f"after teleports of {jumps[0]}-{jumps[-1]} m the demo flag's reference has a p99 stretch of {f('reference')} at its "
+            f"step, {f('reference_half_step')} at half, {f('reference_quarter_step')} at a quarter; at 1 m newton_bdf2_960 is "
+            f"within its bounds at {p99['newton_bdf2_960'][1.0]:.1%}; the stiff reference's p99 moves at most {gap:.1%} under halving")
+
+
 FRONT_DEMO_FINDINGS = [
     ("demo_flag_far_from_its_reference", c_demo_flag_far_from_its_reference),
     ("constraints_are_part_of_the_model", c_constraints_are_part_of_the_model),
     ("demo_true_motion_costs", c_demo_true_motion_costs),
+    ("demo_teleport_reference_unconverged", c_demo_teleport_reference_unconverged),
 ]
