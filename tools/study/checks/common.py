@@ -80,3 +80,10 @@ def misses_on(docs, flag, config, size="33"):
         if not stable(r) or r["misses"]:
             out[p] = "unstable" if not stable(r) else r["misses"]
     return out
+
+
+def teleport_rows(docs, name, flag, config):
+    """A teleport ensemble's rows (teleports_stiff.csv, teleports_demo.csv) of one flag and
+    configuration at 33x33, by jump length in m (path teleport_<d>m)."""
+    rows = [r for r in docs.rows(name) if r["flag"] == flag and r["size"] == "33" and r["config"] == config]
+    return {float(r["path"][len("teleport_"):-1]): r for r in rows}

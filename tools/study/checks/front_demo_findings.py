@@ -2,7 +2,7 @@
 against its reference (its whole model: springs, air, collisions, tethers and stretch limit), the
 constraints' own effect, and the cheapest configuration close to the true motion (front.csv,
 flag=demo, 33x33)."""
-from checks.common import PATHS, front, misses_on, need, num, stable
+from checks.common import PATHS, front, misses_on, need, num, stable, teleport_rows
 
 
 def demo_misses(docs, config):
@@ -49,14 +49,8 @@ def c_demo_true_motion_costs(docs):
             f"where explicit_32's is {kept[1]:.2f}x and {kept[3]:.2f}x")
 
 
-def demo_teleports(docs, config):
-    """teleports_demo.csv's rows of one configuration, by jump length in m."""
-    rows = [r for r in docs.rows("teleports_demo.csv") if r["flag"] == "demo" and r["size"] == "33" and r["config"] == config]
-    return {float(r["path"][len("teleport_"):-1]): r for r in rows}
-
-
 def c_demo_teleport_reference_unconverged(docs):
-    p99 = {c: {d: num(r["p99_stretch"]) for d, r in demo_teleports(docs, c).items()}
+    p99 = {c: {d: num(r["p99_stretch"]) for d, r in teleport_rows(docs, "teleports_demo.csv", "demo", c).items()}
            for c in ("reference", "reference_half_step", "reference_quarter_step", "newton_bdf2_960")}
     jumps = sorted(p99["reference"])
     need(len(jumps) >= 9 and 1.0 in jumps and all(sorted(v) == jumps for v in p99.values()),
@@ -65,7 +59,7 @@ def c_demo_teleport_reference_unconverged(docs):
     need(span["reference"][1] > 3 * span["reference_quarter_step"][1] and span["reference_quarter_step"][1] < 0.12
          and span["reference_half_step"][1] < 0.16,
          f"teleports_demo.csv: the demo reference's p99 after a teleport {span} (docs: up to 59% at its step, 15% at half, 11% at a quarter)")
-    stiff = {c: {r["path"]: num(r["p99_stretch"]) for r in docs.rows("teleports_stiff.csv") if r["config"] == c}
+    stiff = {c: {d: num(r["p99_stretch"]) for d, r in teleport_rows(docs, "teleports_stiff.csv", "stiff", c).items()}
              for c in ("reference", "reference_half_step")}
     gap = max(abs(v - stiff["reference_half_step"][p]) for p, v in stiff["reference"].items())
     need(gap <= 0.012, f"teleports_stiff.csv: the stiff reference's p99 moves {gap:.1%} under halving (docs: 1.2 points at most)")

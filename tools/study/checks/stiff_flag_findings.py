@@ -3,7 +3,9 @@ front.csv (flag=stiff), each judged by the bounds front_checks.py recomputes."""
 import json
 import os
 
-from checks.common import PATHS, front, misses_on, need, num, stable
+import statistics
+
+from checks.common import PATHS, ROOT, front, misses_on, need, num, stable, teleport_rows
 
 FLUTTER = ["speed_50mps", "gale_40mps"]
 # The implicit configurations whose step is a whole 240 Hz tick or longer.
@@ -14,7 +16,7 @@ XPBD = ["xpbd_960", "xpbd_960_16", "xpbd_1920", "xpbd_chains_1920", "xpbd_3840"]
 
 
 def c_stiff_flag_ships_the_true_motion(docs):
-    scene = json.load(open(os.path.join(docs.d, "..", "..", "assets", "scenes", "flag_vehicle_stiff.json")))
+    scene = json.load(open(os.path.join(ROOT, "assets", "scenes", "flag_vehicle_stiff.json")))
     need(scene["flag"]["solver"] == {"name": "small_steps"} and scene["timing"]["physics_hz"] == 240,
          f"flag_vehicle_stiff.json ships {scene['flag']['solver']} at {scene['timing']['physics_hz']} Hz (docs: small_steps, 240 Hz)")
     missed = misses_on(docs, "stiff", "shipped")
@@ -103,45 +105,39 @@ ENSEMBLE = ["reference_half_step", "shipped", "small_steps_f09", "small_steps_f1
             "newton_bdf2_960", "newton_bdf2_960_2"]
 
 
-def teleport_rows(docs, config):
-    """teleports_stiff.csv's rows of one configuration, by jump length in m."""
-    rows = [r for r in docs.rows("teleports_stiff.csv") if r["flag"] == "stiff" and r["size"] == "33" and r["config"] == config]
-    return {float(r["path"][len("teleport_"):-1]): r for r in rows}
-
-
-def median(values):
-    v = sorted(values)
-    return 0.5 * (v[(len(v) - 1) // 2] + v[len(v) // 2])
+def stiff_teleports(docs, config):
+    return teleport_rows(docs, "teleports_stiff.csv", "stiff", config)
 
 
 def ensemble_verdict(docs, config, ref, allowed):
     """(within the ensemble's bounds, median peak, jumps whose own peak bound it misses): stable and
     within p99 on every jump, its median peak within the bound on the reference's median peak."""
-    rows = teleport_rows(docs, config)
+    rows = stiff_teleports(docs, config)
     need(sorted(rows) == sorted(ref), f"teleports_stiff.csv: {config} on jumps {sorted(rows)}, the reference on {sorted(ref)}")
-    peak = median(num(r["peak_stretch"]) for r in rows.values())
+    peak = statistics.median(num(r["peak_stretch"]) for r in rows.values())
     held = all(stable(r) and "p99" not in r["misses"] for r in rows.values()) and peak <= allowed
     return held, peak, sorted(d for d, r in rows.items() if "peak" in r["misses"])
 
 
 def c_teleport_peak_is_chaos(docs):
-    ref = teleport_rows(docs, "reference")
+    ref = stiff_teleports(docs, "reference")
     need(len(ref) >= 9 and 1.0 in ref, f"teleports_stiff.csv: {len(ref)} jumps (docs: eleven, 1 m among them)")
-    ref_median = median(num(r["peak_stretch"]) for r in ref.values())
+    ref_median = statistics.median(num(r["peak_stretch"]) for r in ref.values())
     allowed = 1.5 * ref_median + 0.02
     v = {c: ensemble_verdict(docs, c, ref, allowed) for c in ENSEMBLE}
     held = [c for c in ENSEMBLE if v[c][0]]
     need(held == [c for c in ENSEMBLE if not c.startswith("newton")],
          f"teleports_stiff.csv: within the ensemble's bounds: {held} (docs: all but BDF2)")
     need(v["shipped"][2] == [1.0], f"teleports_stiff.csv: the shipped step misses the peak at {v['shipped'][2]} m (docs: 1 m alone)")
-    need(num(teleport_rows(docs, "shipped")[1.0]["peak_stretch"]) == num(front(docs, "stiff", "teleport_1m", "shipped")["peak_stretch"]),
+    need(num(stiff_teleports(docs, "shipped")[1.0]["peak_stretch"]) == num(front(docs, "stiff", "teleport_1m", "shipped")["peak_stretch"]),
          "teleports_stiff.csv and front.csv disagree on the shipped step's 1 m teleport")
     need(not v["small_steps_f12"][2] and v["small_steps_f12"][1] > v["shipped"][1],
          f"teleports_stiff.csv: small_steps_f12 misses at {v['small_steps_f12'][2]} m, median {v['small_steps_f12'][1]:.3f} "
          f"against the shipped {v['shipped'][1]:.3f} (docs: within on every jump, yet a higher median)")
     for c in ("newton_bdf2_960", "newton_bdf2_960_2"):
         need(not misses_on(docs, "stiff", c).get("teleport_1m"), f"front.csv: {c} misses on the 1 m teleport (docs: within there)")
-    traj = {c: median(num(r["traj_error"]) for r in teleport_rows(docs, c).values()) for c in ("shipped", "newton_bdf2_960")}
+    traj = {c: statistics.median(num(r["traj_error"]) for r in stiff_teleports(docs, c).values())
+            for c in ("shipped", "newton_bdf2_960")}
     need(traj["newton_bdf2_960"] > 3 * traj["shipped"], f"teleports_stiff.csv: median trajectory errors {traj} (docs: BDF2 over 3x the shipped)")
     return (f"over {len(ref)} teleports of {min(ref)}-{max(ref)} m the reference's median peak is {ref_median:.1%} ({allowed:.1%} "
             f"allowed); median peaks {', '.join(f'{c} {v[c][1]:.1%}' for c in ENSEMBLE)}; one jump's peak bound missed by "
