@@ -27,6 +27,7 @@ struct Configuration {
     int hz = 240;             // physics rate
     int referenceFactor = 0;  // > 0: the flag's fine-step reference, its substeps times this
     bool springsOnly = false; // a reference: the springs alone, without the flag's constraints
+    bool paced = true;        // a reference: substeps also paced by the pins' moves (extreme_runs.h)
     bool shipped = false;     // the flag's scene as it ships: its solver, constraints, substeps, rate
     std::vector<FlagKind> flags = {FlagKind::Demo, FlagKind::Stiff};
     int maxSide = 0;          // > 0: not above this side (its cost there is many frames per frame)

@@ -99,8 +99,11 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
     return r;
 }
 
-int referenceSubsteps(int base, int size, const Extreme& x) {
-    return int(std::ceil(base * (size / 33.0) / std::sqrt(x.massScale)));
+int referenceSubsteps(int base, int size, const Extreme& x, const std::vector<Eigen::Vector3d>& pins) {
+    const int stability = int(std::ceil(base * (size / 33.0) / std::sqrt(x.massScale)));
+    if (pins.empty()) return stability;
+    const double h = 1 / kReferenceHz, tickMove = pinMotion(x.carrier, x.duration, h, pins).speedMax * h;
+    return std::max(stability, int(std::ceil(tickMove / kReferencePinStep - 1e-9)));
 }
 
 engine::SceneConfig referenceScene(engine::SceneConfig s, int substeps, bool springsOnly) {

@@ -7,8 +7,9 @@
 // and the flag's constraints) integrated by symplectic Euler in many substeps per tick, the air,
 // the collisions and the constraints applied at every substep (engine::Flag's substeps). Its
 // substeps per tick grow with the flag's resolution and with 1/sqrt(mass scale), as the highest
-// spring frequency does; the study runs it at twice as many too, and the docs hold its figures
-// to change little when the step halves.
+// spring frequency does, and with the pins' fastest move, so that the constraints keep up with a
+// jump; the study runs it at twice as many too, and the docs hold its figures to change little
+// when the step halves.
 //
 // Stable: finite and bounded throughout (positions within 100 m of the pole, speeds under
 // 1000 m/s) and no failed cloth step. Stretch does not decide it: a soft
@@ -64,8 +65,13 @@ double patchEnergy(const cloth::Model& m, const cloth::State& s, const engine::R
 ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mount, const Extreme& x, bool keepStates);
 
 // Substeps per tick of the reference for a flag of `size` per side in case x: `base` at 33 per
-// side and mass scale 1, times size / 33 and 1 / sqrt(mass scale).
-int referenceSubsteps(int base, int size, const Extreme& x);
+// side and mass scale 1, times size / 33 and 1 / sqrt(mass scale) (the explicit step's stability
+// limit); and at least as many as keep every one of `pins` (carrier-frame points) within
+// kReferencePinStep of where it was a substep before. A reference whose pins jump farther in a
+// substep is not converged after a teleport: its tethers and stretch limit lag behind the pins
+// (docs/study.md). No pins: the stability limit alone.
+int referenceSubsteps(int base, int size, const Extreme& x, const std::vector<Eigen::Vector3d>& pins = {});
+constexpr double kReferencePinStep = 0.01;  // m
 
 // The reference ticks at this rate (states every 1/240 s), whatever the scene's.
 constexpr double kReferenceHz = 240;

@@ -13,7 +13,8 @@ namespace study {
 namespace {
 
 // The reference's substeps per 240 Hz tick at 33 per side (extreme_runs.h scales them with the
-// size and the mass): the demo's soft flag, and the stiff flag (k = 1e4).
+// size and the mass, and paces them by the pins' moves): the demo's soft flag, and the stiff flag
+// (k = 1e4).
 constexpr int kDemoReferenceSubsteps = 24, kStiffReferenceSubsteps = 160;
 
 const char* const kHeader =
@@ -66,7 +67,7 @@ public:
 
     std::string row(long index, const Configuration& c, const char* timing) {
         const engine::SceneConfig s = sceneOf(c);
-        const bool isReference = c.referenceFactor == 1 && !c.springsOnly;
+        const bool isReference = c.referenceFactor == 1 && !c.springsOnly && c.paced;
         const ExtremeRun none = noReference();
         const ExtremeRun& ref = references_ || isReference ? reference() : none;
         std::optional<ExtremeRun> own;
@@ -83,7 +84,9 @@ private:
         if (c.shipped) return s;
         if (c.referenceFactor > 0) {
             const int base = flag_ == FlagKind::Demo ? kDemoReferenceSubsteps : kStiffReferenceSubsteps;
-            return referenceScene(s, c.referenceFactor * referenceSubsteps(base, size_, x_), c.springsOnly);
+            const std::vector<Eigen::Vector3d> pins = c.paced ? pinnedColumn(s, extremeMount(flags_.demo))
+                                                               : std::vector<Eigen::Vector3d>{};
+            return referenceScene(s, c.referenceFactor * referenceSubsteps(base, size_, x_, pins), c.springsOnly);
         }
         s.flag.solver = configOf(c.solver);
         if (c.constraints) s.flag.constraints = constraintsOf(*c.constraints);
