@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "cloth/solver.h"
+#include "extreme_cases.h"
 
 namespace study {
 
@@ -76,9 +77,10 @@ std::string readTeleports(const std::string& text, std::vector<double>& out) {
     for (const std::string& v : split(text, ',')) {
         char* end = nullptr;
         const double d = std::strtod(v.c_str(), &end);
-        if (*end != '\0' || !(d > 0 && d <= 10) || d == 1)
+        if (*end != '\0' || !(d > 0 && d <= 10) || teleportName(d) == teleportName(1))
             return "--teleports: '" + v + "' is not a length in (0, 10] m other than 1 (teleport_1m is a case already)";
-        if (std::find(out.begin(), out.end(), d) != out.end()) return "--teleports: '" + v + "' is named twice";
+        const auto same = [&](double e) { return teleportName(e) == teleportName(d); };  // paths go by name
+        if (std::any_of(out.begin(), out.end(), same)) return "--teleports: '" + v + "' names " + teleportName(d) + " twice";
         out.push_back(d);
     }
     return {};
