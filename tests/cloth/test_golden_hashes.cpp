@@ -67,12 +67,14 @@ std::map<std::string, std::string> readGoldenHashes(const std::string& path) {
 }
 
 // The fixed scenario: a 17 x 17 hanging flag whose pole moves along a polynomial path (no libm
-// calls, so nothing here depends on the C library's rounding), explicit air on a side wind,
-// light drag; 60 steps of 1/240 s.
+// calls, so nothing here depends on the C library's rounding), air on a side wind, light drag;
+// 60 steps of 1/240 s. The air is an explicit force, except for newton, which couples it into its
+// equations (input.air: its Jacobian in every linear solve).
 State runGoldenScenario(const std::string& spec, const std::function<void(MultigridTuning&)>& tune) {
     HangingFlagDesc d;
     d.nx = d.ny = 17;
     HangingFlag flag = makeHangingFlag(d);
+    const bool coupledAir = spec.rfind("newton", 0) == 0;
     auto solver = solverFor(spec, tune);
     if (!solver) return flag.state;
     Environment env;
@@ -88,7 +90,8 @@ State runGoldenScenario(const std::string& spec, const std::function<void(Multig
         const Vec3 velocity(0.4, 0.2 - 3 * t, 0.6 * t);
         const std::vector<Pin> pins = pinColumn(flag.model, offset, velocity);
         external.setZero(3, flag.model.particleCount());
-        addAirForces(flag.model, flag.state, air, external);
+        if (coupledAir) input.air = &air;
+        else addAirForces(flag.model, flag.state, air, external);
         input.pins = pins;
         input.externalForce = &external;
         const StepResult r = solver->step(flag.model, env, flag.state, input);
@@ -143,4 +146,8 @@ TEST(GoldenHash, MultigridColdStartThreads1) {
     });
 }
 TEST(GoldenHash, MultigridMixedThreads1) { expectGoldenHash("multigrid:precision=mixed", 1); }
+TEST(GoldenHash, NewtonBdf2Threads1) { expectGoldenHash("newton:integrator=bdf2", 1); }
+TEST(GoldenHash, NewtonBdf2Threads2) { expectGoldenHash("newton:integrator=bdf2", 2); }
+TEST(GoldenHash, NewtonCappedThreads1) { expectGoldenHash("newton:integrator=bdf2,max_iterations=2", 1); }
+TEST(GoldenHash, NewtonCappedThreads2) { expectGoldenHash("newton:integrator=bdf2,max_iterations=2", 2); }
 TEST(GoldenHash, MultigridMixedThreads2) { expectGoldenHash("multigrid:precision=mixed", 2); }
