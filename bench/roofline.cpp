@@ -163,12 +163,12 @@ void explicitSubstep(benchmark::State& bm) { step(bm, "explicit:substeps=64", fa
 void paperStepFloat(benchmark::State& bm) { step(bm, "kangcho:precision=float", false, kPaperFlops, kPaperBytes, 1); }
 void xpbdPass(benchmark::State& bm) { step(bm, "xpbd", false, kXpbdFlops, kXpbdBytes, 1); }
 
-// A step of converged BDF2 (newton) per iteration; the counter is per Newton iteration (its
+// A step of converged BDF2 (newton) per iteration, on one thread and on two (wall clock); the counter is per Newton iteration (its
 // GMRES iterations, each a product of the step's derivative and a multigrid cycle, with the
 // residual at each iterate). Its flops are not counted: the table gives its time only.
-void newtonIteration(benchmark::State& bm) {
+void newtonIteration(benchmark::State& bm, const char* spec) {
     Flag33 f;
-    auto solver = solverOf("newton:integrator=bdf2");
+    auto solver = solverOf(spec);
     cloth::StepInput in = f.input();
     in.air = &f.air;
     const cloth::State start = f.flag.state;
@@ -243,4 +243,8 @@ BENCHMARK_CAPTURE(air, forces, false)->Name("kernel/air/33")->Unit(benchmark::kM
 BENCHMARK_CAPTURE(air, blocks, true)->Name("kernel/air_with_blocks/33")->Unit(benchmark::kMicrosecond);
 BENCHMARK(springSystem)->Name("kernel/spring_system/33")->Unit(benchmark::kMicrosecond);
 BENCHMARK(stretchPass)->Name("kernel/stretch_limit_pass/33")->Unit(benchmark::kMicrosecond);
-BENCHMARK(newtonIteration)->Name("kernel/newton_iteration/33")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(newtonIteration, one, "newton:integrator=bdf2")->Name("kernel/newton_iteration/33")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(newtonIteration, two, "newton:integrator=bdf2,threads=2")
+    ->Name("kernel/newton_iteration/33/2_threads")
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();

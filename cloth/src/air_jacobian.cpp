@@ -9,6 +9,10 @@
 
 #include "cloth/air.h"
 
+#include <type_traits>
+
+#include "eigen_order.h"
+
 namespace cloth {
 
 namespace {
@@ -35,50 +39,114 @@ TriangleDerivative derivative(const Vec3& N, const Vec3& w, const AirParams& air
     return d;
 }
 
+// The product's pass over the triangles: raw views of AirJacobian's arrays.
+struct TrianglePass {
+    const Index* corners;  // 3 per triangle
+    const double* in;
+    Scalar positionScale, velocityScale;
+    const Scalar* dFdw[9];
+    const Scalar* dFdN[9];
+    const Scalar* e1[3];
+    const Scalar* e2[3];
+    Scalar* share;  // 3 per triangle
+};
+
+// Coordinate c of corner k of triangles t.. (one per lane of V).
+template <class V>
+CLOTH_INLINE inline V cornerOf(const TrianglePass& p, int k, int c, int t) {
+    if constexpr (std::is_same_v<V, double>) {
+        return p.in[3 * std::size_t(p.corners[3 * std::size_t(t) + k]) + c];
+    } else {
+        V v;
+        for (int l = 0; l < kLanes<double>; ++l) v[l] = p.in[3 * std::size_t(p.corners[3 * std::size_t(t + l) + k]) + c];
+        return v;
+    }
+}
+
+// Triangles t.. (a lane each): share = (-(vs / 3) dF/dw (a + b + c) + ps dF/dN (da x e2 + e1 x dc)) / 3,
+// each operation in the order of its Eigen form (eigen_order.h: a pack's lanes and the scalar tail
+// give its bits).
+template <class V>
+CLOTH_INLINE inline void triangleShare(const TrianglePass& p, int t) {
+    V x[3][3];  // corner, coordinate
+    for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c) x[k][c] = cornerOf<V>(p, k, c, t);
+    V dF[3] = {};
+    if (p.velocityScale != 0) {
+        const V sum[3] = {x[0][0] + x[1][0] + x[2][0], x[0][1] + x[1][1] + x[2][1], x[0][2] + x[1][2] + x[2][2]};
+        const Scalar f = p.velocityScale / 3;
+        for (int r = 0; r < 3; ++r) dF[r] = dF[r] - scaledMat3Row<V>(f, p.dFdw, r, sum, std::size_t(t));
+    }
+    if (p.positionScale != 0) {
+        V da[3], dc[3], e1[3], e2[3];
+        for (int c = 0; c < 3; ++c) {
+            da[c] = x[1][c] - x[0][c], dc[c] = x[2][c] - x[0][c];
+            e1[c] = load<V>(p.e1[c] + t), e2[c] = load<V>(p.e2[c] + t);
+        }
+        V dN[3];
+        for (int c = 0; c < 3; ++c) {
+            const int i = (c + 1) % 3, j = (c + 2) % 3;
+            dN[c] = (da[i] * e2[j] - da[j] * e2[i]) + (e1[i] * dc[j] - e1[j] * dc[i]);
+        }
+        for (int r = 0; r < 3; ++r) dF[r] = dF[r] + scaledMat3Row<V>(p.positionScale, p.dFdN, r, dN, std::size_t(t));
+    }
+    // share: 3 per triangle, so that a corner's gather reads them together
+    for (int r = 0; r < 3; ++r) storeStrided<V>(p.share, std::size_t(t), 3, r, dF[r] / 3);
+}
+
+CLOTH_SIMD_CLONES void triangleShares(const TrianglePass& p, int count) {
+    int t = 0;
+    for (; t + kLanes<double> <= count; t += kLanes<double>) triangleShare<Pack<double>>(p, t);
+    for (; t < count; ++t) triangleShare<double>(p, t);
+}
+
 }  // namespace
 
 void AirJacobian::compute(const Model& model, const State& state, const AirParams& air) {
     const auto& triangles = model.triangles();
-    dFdw_.resize(triangles.size()), dFdN_.resize(triangles.size());
-    e1_.resize(triangles.size()), e2_.resize(triangles.size());
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const std::size_t count = triangles.size();
+    for (auto* arrays : {&dFdw_, &dFdN_})
+        for (std::vector<Scalar>& entry : *arrays) entry.resize(count);
+    for (auto* arrays : {&e1_, &e2_})
+        for (std::vector<Scalar>& coordinate : *arrays) coordinate.resize(count);
+    share_.resize(3 * count);
+    for (std::size_t t = 0; t < count; ++t) {
         const Triangle& tri = triangles[t];
-        const Vec3 a = state.x.col(tri[0]);
-        e1_[t] = state.x.col(tri[1]) - a;
-        e2_[t] = state.x.col(tri[2]) - a;
+        const Vec3 a = state.x.col(tri[0]), e1 = state.x.col(tri[1]) - a, e2 = state.x.col(tri[2]) - a;
         const Vec3 w = air.wind - (state.v.col(tri[0]) + state.v.col(tri[1]) + state.v.col(tri[2])) / 3;
-        const TriangleDerivative d = derivative(e1_[t].cross(e2_[t]), w, air);
-        dFdw_[t] = d.dFdw;
-        dFdN_[t] = d.dFdN;
+        const TriangleDerivative d = derivative(e1.cross(e2), w, air);
+        for (int r = 0; r < 3; ++r) {
+            e1_[r][t] = e1[r], e2_[r][t] = e2[r];
+            for (int c = 0; c < 3; ++c) dFdw_[3 * r + c][t] = d.dFdw(r, c), dFdN_[3 * r + c][t] = d.dFdN(r, c);
+        }
     }
 }
 
 void AirJacobian::apply(const Model& model, const double* in, Scalar positionScale, Scalar velocityScale,
                         double* out) const {
-    const auto& triangles = model.triangles();
-    share_.resize(triangles.size());
-    auto at = [](const double* p, Index i) { return Vec3(p[3 * i], p[3 * i + 1], p[3 * i + 2]); };
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        const Triangle& tri = triangles[t];
-        const Vec3 a = at(in, tri[0]), b = at(in, tri[1]), c = at(in, tri[2]);
-        Vec3 dF = Vec3::Zero();
-        if (velocityScale != 0) dF -= (velocityScale / 3) * (dFdw_[t] * (a + b + c));
-        if (positionScale != 0) dF += positionScale * (dFdN_[t] * ((b - a).cross(e2_[t]) + e1_[t].cross(c - a)));
-        share_[t] = dF / 3;
-    }
+    TrianglePass pass{&model.triangles()[0][0], in, positionScale, velocityScale, {}, {}, {}, {}, share_.data()};
+    for (int k = 0; k < 9; ++k) pass.dFdw[k] = dFdw_[k].data(), pass.dFdN[k] = dFdN_[k].data();
+    for (int k = 0; k < 3; ++k) pass.e1[k] = e1_[k].data(), pass.e2[k] = e2_[k].data();
+    triangleShares(pass, int(model.triangles().size()));
     const Index* start = model.triStart().data();
     const Index* of = model.triOf().data();
     for (Index p = 0; p < model.particleCount(); ++p)
         for (Index k = start[p]; k < start[p + 1]; ++k)
-            for (int c = 0; c < 3; ++c) out[3 * p + c] += share_[of[k]][c];
+            for (int c = 0; c < 3; ++c) out[3 * p + c] += share_[3 * std::size_t(of[k]) + c];
 }
 
 void AirJacobian::velocityDiagonal(const Model& model, std::vector<Mat3>& out) const {
+    const std::size_t count = model.triangles().size();
+    ninth_.resize(9 * count);  // each triangle's dF/dw / 9, its 9 entries together
+    for (std::size_t t = 0; t < count; ++t)
+        for (int e = 0; e < 9; ++e) ninth_[9 * t + e] = dFdw_[e][t] / 9;
     out.assign(model.particleCount(), Mat3::Zero());
     const Index* start = model.triStart().data();
     const Index* of = model.triOf().data();
     for (Index p = 0; p < model.particleCount(); ++p)
-        for (Index k = start[p]; k < start[p + 1]; ++k) out[p] -= dFdw_[of[k]] / 9;
+        for (Index k = start[p]; k < start[p + 1]; ++k)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) out[p](r, c) -= ninth_[9 * std::size_t(of[k]) + 3 * r + c];
 }
 
 }  // namespace cloth

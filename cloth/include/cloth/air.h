@@ -18,6 +18,7 @@
 // of C_i (symmetric part, negative eigenvalues clamped to zero): W stays symmetric positive
 // definite for Cholesky, CG and multigrid, and the air can only damp, never excite.
 
+#include <array>
 #include <vector>
 
 #include "cloth/model.h"
@@ -70,9 +71,13 @@ public:
     void velocityDiagonal(const Model& model, std::vector<Mat3>& out) const;
 
 private:
-    std::vector<Mat3> dFdw_, dFdN_;  // per triangle, zero for a degenerate one or still air
-    std::vector<Vec3> e1_, e2_;      // b - a, c - a
-    mutable std::vector<Vec3> share_;
+    // Per triangle, as structures of arrays so that a product takes a pack of triangles at once:
+    // dF/dw and dF/dN by row-major entry (zero for a degenerate triangle or still air), e1 = b - a
+    // and e2 = c - a by coordinate. Scratch, 3 and 9 per triangle: each corner's part of a
+    // product, and dF/dw / 9 for the diagonal blocks.
+    std::array<std::vector<Scalar>, 9> dFdw_, dFdN_;
+    std::array<std::vector<Scalar>, 3> e1_, e2_;
+    mutable std::vector<Scalar> share_, ninth_;
 };
 
 }  // namespace cloth
