@@ -163,9 +163,10 @@ void explicitSubstep(benchmark::State& bm) { step(bm, "explicit:substeps=64", fa
 void paperStepFloat(benchmark::State& bm) { step(bm, "kangcho:precision=float", false, kPaperFlops, kPaperBytes, 1); }
 void xpbdPass(benchmark::State& bm) { step(bm, "xpbd", false, kXpbdFlops, kXpbdBytes, 1); }
 
-// A step of converged BDF2 (newton) per iteration, on one thread and on two (wall clock); the counter is per Newton iteration (its
-// GMRES iterations, each a product of the step's derivative and a multigrid cycle, with the
-// residual at each iterate). Its flops are not counted: the table gives its time only.
+// A step of converged BDF2 (newton) per iteration, on one thread and on two (wall clock); the
+// counter is per Newton iteration (its GMRES iterations, each a product of the step's derivative
+// and a multigrid cycle, with the residual at each iterate). Its flops are not counted: the table
+// gives its time only.
 void newtonIteration(benchmark::State& bm, const char* spec) {
     Flag33 f;
     auto solver = solverOf(spec);

@@ -146,8 +146,8 @@ TEST(GoldenHash, MultigridColdStartThreads1) {
     });
 }
 TEST(GoldenHash, MultigridMixedThreads1) { expectGoldenHash("multigrid:precision=mixed", 1); }
+TEST(GoldenHash, MultigridMixedThreads2) { expectGoldenHash("multigrid:precision=mixed", 2); }
 TEST(GoldenHash, NewtonBdf2Threads1) { expectGoldenHash("newton:integrator=bdf2", 1); }
 TEST(GoldenHash, NewtonBdf2Threads2) { expectGoldenHash("newton:integrator=bdf2", 2); }
 TEST(GoldenHash, NewtonCappedThreads1) { expectGoldenHash("newton:integrator=bdf2,max_iterations=2", 1); }
 TEST(GoldenHash, NewtonCappedThreads2) { expectGoldenHash("newton:integrator=bdf2,max_iterations=2", 2); }
-TEST(GoldenHash, MultigridMixedThreads2) { expectGoldenHash("multigrid:precision=mixed", 2); }
