@@ -140,14 +140,14 @@ int Tethers::apply(const Model& model, const std::vector<Pin>& pins, Scalar maxS
     return moved;
 }
 
-void ConstraintSet::apply(const Model& model, const std::vector<Pin>& pins, Scalar h, State& state, ThreadPool* pool) {
-    if (settings_.tether > 0) tethers_.apply(model, pins, settings_.tether, h, state, pool);
-    if (settings_.stretchLimit <= 0) return;
+int ConstraintSet::apply(const Model& model, const std::vector<Pin>& pins, Scalar h, State& state, ThreadPool* pool) {
+    const int moved = settings_.tether > 0 ? tethers_.apply(model, pins, settings_.tether, h, state, pool) : 0;
+    if (settings_.stretchLimit <= 0) return moved;
     const Index n = model.particleCount();
     pinned_.assign(n, 0);
     for (const Pin& p : pins)
         if (p.particle >= 0 && p.particle < n) pinned_[p.particle] = 1;
-    stretch_.apply(model, pinned_, settings_.stretchLimit, settings_.stretchPasses, h, state, pool);
+    return moved + stretch_.apply(model, pinned_, settings_.stretchLimit, settings_.stretchPasses, h, state, pool);
 }
 
 }  // namespace cloth

@@ -2,7 +2,10 @@
 // makes fast, written out here: symplectic Euler in n substeps of h / n, the air recomputed at
 // every substep (addAirForces), the pins moved on a straight line to their targets, a capsule
 // met at every substep (resolveCollisions); its two-thread run against its one-thread run, bit
-// for bit; its stability bound against the true highest frequency of a flag (a dense eigensolve).
+// for bit; its stability bound against the true highest frequency of a flag (a dense eigensolve);
+// the demo flag's constraints after every substep against the same integrator with the
+// constraints after each of its substeps, through a jump of the pole; its substeps paced by the
+// pins against counts worked by hand.
 
 #include <gtest/gtest.h>
 
@@ -11,6 +14,7 @@
 
 #include "cloth/air.h"
 #include "cloth/collision.h"
+#include "cloth/constraints.h"
 #include "cloth/forces.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
@@ -24,13 +28,15 @@ namespace {
 
 constexpr double kH = 1.0 / 240;
 
-// The stiff flag (k = 1e4 / 1e4 / 1e3 N/m), n x n, in a 25 m/s wind, its pole swung sideways.
+// The stiff flag (k = 1e4 / 1e4 / 1e3 N/m), n x n, in a 25 m/s wind, its pole swung sideways
+// (and, with a jump, moved that far along z at once from the third step on).
 struct Scenario {
     HangingFlag flag;
     AirParams air;
     Collider pole;
     std::vector<uint8_t> skip;
-    explicit Scenario(int n) : flag(makeHangingFlag(desc(n))) {
+    double jump = 0;
+    explicit Scenario(int n, HangingFlagDesc d = desc(0)) : flag(makeHangingFlag(withSide(d, n))) {
         air.wind = Vec3(25, 0, 5);
         pole.shape = Collider::Shape::Capsule;
         pole.axis = Vec3::UnitY();
@@ -45,12 +51,16 @@ struct Scenario {
         d.stiffness = {1e4, 1e4, 1e3};
         return d;
     }
+    static HangingFlagDesc withSide(HangingFlagDesc d, int n) {
+        d.nx = d.ny = n;
+        return d;
+    }
     // The pins of step s: the pole swung along z, the capsule with it.
     StepInput input(int s) {
         StepInput in;
         in.h = kH;
         in.pins = flag.pins;
-        const double t = (s + 1) * kH, z = 0.2 * std::sin(8 * t), vz = 1.6 * std::cos(8 * t);
+        const double t = (s + 1) * kH, z = 0.2 * std::sin(8 * t) + (s >= 2 ? jump : 0), vz = 1.6 * std::cos(8 * t);
         for (Pin& p : in.pins) p.x.z() += z, p.v = Vec3(0, 0, vz);
         pole.center = Vec3(0, flag.pins.front().x.y() - 1.5, z);
         pole.velocity = Vec3(0, 0, vz);
@@ -80,8 +90,8 @@ void referenceStep(Scenario& sc, const StepInput& in, int n, Solver& explicitEul
     }
 }
 
-State runSmallSteps(const std::string& spec, int steps) {
-    Scenario sc(17);
+// `steps` steps of small_steps on sc; with `after`, these constraints once after each step.
+State runSmallSteps(const std::string& spec, int steps, Scenario sc = Scenario(17), ConstraintSet* after = nullptr) {
     auto solver = solverFor(spec);
     std::vector<Collider> colliders;
     for (int s = 0; s < steps; ++s) {
@@ -89,8 +99,24 @@ State runSmallSteps(const std::string& spec, int steps) {
         colliders = {sc.pole};
         in.air = &sc.air, in.colliders = &colliders, in.thickness = 0.01, in.collisionSkip = &sc.skip;
         EXPECT_EQ(solver->step(sc.flag.model, Environment{}, sc.flag.state, in).status, StepStatus::Ok);
+        if (after) after->apply(sc.flag.model, in.pins, in.h, sc.flag.state, nullptr);
     }
     return sc.flag.state;
+}
+
+// The demo flag (k = 1e3 / 1e2 / 5 N/m) with its tethers (2%) and stretch limit (10%, 4 passes),
+// n x n, its pole jumping 0.3 m.
+Constraints demoConstraints() {
+    Constraints c;
+    c.tether = 0.02, c.stretchLimit = 0.1, c.stretchPasses = 4;
+    return c;
+}
+Scenario demoFlag(int n) {
+    HangingFlagDesc d;
+    d.stiffness = {1e3, 1e2, 5};
+    Scenario sc(n, d);
+    sc.jump = 0.3;
+    return sc;
 }
 
 double rmsOverWidth(const Points& a, const Points& b) { return std::sqrt((a - b).colwise().squaredNorm().mean()) / 1.5; }
@@ -150,4 +176,79 @@ TEST(SmallSteps, StabilityBoundHoldsTheTrueHighestFrequency) {
     EXPECT_LE(bound, 2 * trueFrequency);
     // The substeps: h / (fraction 2 / w) rounded up.
     EXPECT_EQ(stableSubsteps(kH, bound, 0, 0.5), int(std::ceil(kH * bound / 1.0)));
+}
+
+// Through the 0.3 m jump the demo flag's tethers and stretch limit act at every substep (the jump
+// takes 40 cm of the pins in one step). small_steps keeps the positions within 1e-4 of the width
+// (RMS, float against double) of the double integrator written out with the constraints after
+// each of its substeps, as the study's reference runs them; the constraints once per step, after
+// the last substep, leave the flag far farther from it.
+TEST(SmallSteps, RunsTheConstraintsAfterEverySubstep) {
+    constexpr int kSteps = 12;
+    Scenario ref = demoFlag(17);
+    auto explicitEuler = solverFor("explicit");
+    explicitEuler->setConstraints(demoConstraints());
+    for (int s = 0; s < kSteps; ++s) referenceStep(ref, ref.input(s), 40, *explicitEuler);
+
+    auto spec = "small_steps:substeps=40";
+    auto solver = solverFor(spec);
+    solver->setConstraints(demoConstraints());
+    Scenario fast = demoFlag(17);
+    std::vector<Collider> colliders;
+    for (int s = 0; s < kSteps; ++s) {
+        StepInput in = fast.input(s);
+        colliders = {fast.pole};
+        in.air = &fast.air, in.colliders = &colliders, in.thickness = 0.01, in.collisionSkip = &fast.skip;
+        ASSERT_EQ(solver->step(fast.flag.model, Environment{}, fast.flag.state, in).status, StepStatus::Ok);
+    }
+    const double error = rmsOverWidth(fast.flag.state.x, ref.flag.state.x);
+    EXPECT_LT(error, 1e-4);
+
+    ConstraintSet oncePerStep;
+    oncePerStep.set(demoConstraints());
+    const State once = runSmallSteps(spec, kSteps, demoFlag(17), &oncePerStep);
+    EXPECT_GT(rmsOverWidth(once.x, ref.flag.state.x), 10 * error);
+}
+
+// With max_move, the substeps split the largest move of a step into pieces of at most max_move: 1 m
+// at 1 cm takes 100 substeps, not 101 by a rounding error; 1.005 m takes 101. The largest move is
+// the farthest pin's, or a particle's at its speed relative to the pole's.
+TEST(SmallSteps, PacesItsSubstepsByTheLargestMove) {
+    EXPECT_EQ(pacedSubsteps(1.0, 0.01), 100);
+    EXPECT_EQ(pacedSubsteps(1.005, 0.01), 101);
+    EXPECT_EQ(pacedSubsteps(1.005, 0), 0);
+    const std::vector<Vec3> start{Vec3(0, 0, 0), Vec3(1, 2, 3)}, end{Vec3(0.6, 0.8, 0), Vec3(1, 2, 3.5)};
+    State s;
+    s.x = Points::Zero(3, 2);
+    s.v = Points::Zero(3, 2);
+    s.v.colwise() = Vec3(20, 0, 0);  // both moving with the pole
+    EXPECT_DOUBLE_EQ(largestMove(start, end, s, Vec3(20, 0, 0), 0.1), 1.0);
+    s.v.col(1) = Vec3(20, 0, 30);  // 30 m/s across it: 3 m in 0.1 s
+    EXPECT_DOUBLE_EQ(largestMove(start, end, s, Vec3(20, 0, 0), 0.1), 3.0);
+}
+
+// The solver takes the paced count where it exceeds the stability bound's: the 0.3 m jump of the
+// demo flag's pole (on its 0.2 m swing) at 1 cm per substep, and the stability bound's count on
+// the steps without a jump (the largest move worked out here from the state and the pins).
+TEST(SmallSteps, ItsStepsTakeThePacedCountThroughAJump) {
+    Scenario sc = demoFlag(17);
+    auto solver = solverFor("small_steps:max_move=0.01");
+    std::vector<Collider> colliders;
+    for (int s = 0; s < 4; ++s) {
+        StepInput in = sc.input(s);
+        colliders = {sc.pole};
+        in.air = &sc.air, in.colliders = &colliders, in.thickness = 0.01, in.collisionSkip = &sc.skip;
+        double move = 0;
+        for (const Pin& p : in.pins) move = std::max(move, (p.x - sc.flag.state.x.col(p.particle)).norm());
+        for (Index i = 0; i < sc.flag.model.particleCount(); ++i)
+            move = std::max(move, (sc.flag.state.v.col(i) - in.pins.front().v).norm() * kH);
+        const int stable = stableSubsteps(kH, springFrequencyBound(sc.flag.model),
+                                          airRateBound(sc.flag.model, sc.flag.state, &sc.air), 1);
+        const StepResult r = solver->step(sc.flag.model, Environment{}, sc.flag.state, in);
+        ASSERT_EQ(r.status, StepStatus::Ok);
+        if (s == 2) {
+            EXPECT_GT(int(std::ceil(move / 0.01)), stable);
+        }
+        EXPECT_EQ(r.iterations, std::max(stable, int(std::ceil(move / 0.01 - 1e-9)))) << "step " << s;
+    }
 }

@@ -92,8 +92,9 @@ public:
     const Constraints& settings() const { return settings_; }
     bool any() const { return settings_.any(); }
     // Tethers, then the stretch limit, on `state` after a step of length h (the pins' particles
-    // stay put).
-    void apply(const Model& model, const std::vector<Pin>& pins, Scalar h, State& state, ThreadPool* pool);
+    // stay put). Returns the number of corrections (particles the tethers moved, and the stretch
+    // limit's).
+    int apply(const Model& model, const std::vector<Pin>& pins, Scalar h, State& state, ThreadPool* pool);
 
 private:
     Constraints settings_;

@@ -36,4 +36,19 @@ int stableSubsteps(Scalar h, Scalar springFrequency, Scalar airRate, Scalar frac
     return int(std::clamp(substeps, Scalar(1), Scalar(100000)));
 }
 
+Scalar largestMove(const std::vector<Vec3>& start, const std::vector<Vec3>& end, const State& state,
+                   const Vec3& frame, Scalar h) {
+    Scalar move = 0;
+    for (std::size_t k = 0; k < start.size() && k < end.size(); ++k) move = std::max(move, (end[k] - start[k]).norm());
+    Scalar speed2 = 0;
+    for (Index i = 0; i < state.v.cols(); ++i) speed2 = std::max(speed2, (state.v.col(i) - frame).squaredNorm());
+    return std::max(move, std::sqrt(speed2) * h);
+}
+
+int pacedSubsteps(Scalar move, Scalar maxMove) {
+    if (maxMove <= 0) return 0;
+    // A move of exactly n pieces takes n substeps, not n + 1 by a rounding error.
+    return int(std::clamp(std::ceil(move / maxMove - 1e-9), Scalar(0), Scalar(100000)));
+}
+
 }  // namespace cloth

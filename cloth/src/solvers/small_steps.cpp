@@ -4,7 +4,11 @@
 // collisions per substep), in float SIMD on the grid's stencil (small_steps/stencil_cloth.h),
 // positions relative to the first pin so float keeps its precision anywhere in the world, on one
 // or more threads that meet twice per substep (the same bits for any count). substeps=0 picks
-// each step's count from the stability bound (small_steps/stable_step.h) times `fraction`.
+// each step's count from the stability bound (small_steps/stable_step.h) times `fraction`, and
+// with max_move > 0 enough that no pin, and no particle at its speed relative to the pole's, moves
+// more than max_move metres in a substep: as the reference paces its substeps through a teleport,
+// and after it while the flag still flies. The flag's constraints (tethers, the stretch limit) run
+// after every substep, as they do after each of the reference's.
 // Grids only (Model::fromGrid's layout); on another mesh every step fails and details() says why.
 
 #include <algorithm>
@@ -27,6 +31,7 @@ namespace {
 struct SmallStepsSettings {
     int substeps = 0;
     double fraction = 1.0;
+    double maxMove = 0;  // m; 0 = the substeps from the stability bound alone
     int threads = 1;
 };
 
@@ -35,6 +40,7 @@ struct StepPlan {
     IntegrateConstants integrate;
     AirConstants air;
     int substeps = 1;
+    Scalar h = 0;  // of a substep
     std::vector<int> pinned;            // particles
     std::vector<Vec3> pinStart, pinEnd;  // relative to the origin
 };
@@ -55,11 +61,14 @@ public:
         load(model, env, state, input);
         profile_.forcesMs = msSince(t0);
         t0 = Clock::now();
+        model_ = &model, pins_ = &input.pins;
         runSubsteps();
         profile_.solveMs = msSince(t0);
         t0 = Clock::now();
         store();
-        StepResult result = commit(model, constraints_, input, *pool_, state, scratch_, StepResult{});
+        // The constraints ran after every substep: none are left for the step's end.
+        StepResult result = commit(model, constraints_.any() ? noConstraints_ : constraints_, input, *pool_, state,
+                                   scratch_, StepResult{});
         result.iterations = plan_.substeps;
         profile_.integrateMs = msSince(t0);
         return result;
@@ -87,6 +96,7 @@ private:
     void loadPins(const StepInput& input);
     void runSubsteps();
     void worker(int index);
+    void constrain();
     void store();
 
     StencilCloth cloth_;
@@ -103,7 +113,14 @@ private:
     std::unique_ptr<SpinBarrier> barrier_;
     std::string layoutError_;
     int lastSubsteps_ = 0;
+    const Model* model_ = nullptr;         // the model and the pins of the step under way
+    const std::vector<Pin>* pins_ = nullptr;
+    State constrained_;                    // the substep's state in double for the constraints
+    ConstraintSet noConstraints_;
 };
+
+// The velocity of the pole the flag hangs on: its first pin's (zero without a pin).
+Vec3 poleVelocity(const StepInput& input) { return input.pins.empty() ? Vec3::Zero() : input.pins.front().v; }
 
 // The state relative to the origin (the first pin where the step starts), the pins, the air, the
 // colliders, and the substeps of this step.
@@ -136,10 +153,14 @@ void SmallStepsSolver::load(const Model& model, const Environment& env, const St
     }
     colliders_.prepare(input.colliders, input.thickness, input.collisionSkip, origin_);
     plan_.substeps = own().substeps > 0 ? own().substeps
-                                        : stableSubsteps(input.h, springFrequency_, airRateBound(model, state, input.air),
-                                                         own().fraction);
+                                        : std::max(stableSubsteps(input.h, springFrequency_,
+                                                                  airRateBound(model, state, input.air), own().fraction),
+                                                   pacedSubsteps(largestMove(plan_.pinStart, plan_.pinEnd, state,
+                                                                             poleVelocity(input), input.h),
+                                                                 own().maxMove));
     lastSubsteps_ = plan_.substeps;
-    c.h = float(input.h / plan_.substeps);
+    plan_.h = input.h / plan_.substeps;
+    c.h = float(plan_.h);
 }
 
 // The pinned particles move on a straight line from where they are to their targets over the
@@ -169,7 +190,8 @@ void SmallStepsSolver::runSubsteps() {
 }
 
 // Thread `index`'s share of every substep: the springs and the air at its slots, then, once every
-// thread's are done, its particles' integration and collisions.
+// thread's are done, its particles' integration, the constraints (on one thread) and its
+// particles' collisions.
 void SmallStepsSolver::worker(int index) {
     const int begin = ranges_[std::size_t(index)], end = ranges_[std::size_t(index) + 1];
     const bool together = pool_->threads() > 1;
@@ -186,8 +208,31 @@ void SmallStepsSolver::worker(int index) {
         if (plan_.integrate.air) airKernel(cloth_, plan_.air, s_, begin, end);
         if (together) barrier_->wait();
         integrateKernel(cloth_, plan_.integrate, s_, begin, end);
+        if (constraints_.any()) {  // between the integration and the collisions, as after a solver's step
+            if (together) barrier_->wait();
+            if (index == 0) constrain();
+            if (together) barrier_->wait();
+        }
         if (colliders_.any()) colliders_.resolve(s_, begin, end);
         if (together) barrier_->wait();
+    }
+}
+
+// The flag's constraints after a substep, on one thread (the same bits for any thread count): the
+// positions relative to the origin and the velocities in double (exactly), corrected, and back in
+// float when a constraint moved a particle. The constraints read differences of positions only, so
+// the relative positions serve.
+void SmallStepsSolver::constrain() {
+    float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at(), *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
+    constrained_.x.resize(3, cloth_.n), constrained_.v.resize(3, cloth_.n);
+    for (Index i = 0; i < cloth_.n; ++i) {
+        constrained_.x.col(i) = Vec3(x[i], y[i], z[i]);
+        constrained_.v.col(i) = Vec3(vx[i], vy[i], vz[i]);
+    }
+    if (constraints_.apply(*model_, *pins_, plan_.h, constrained_, nullptr) == 0) return;
+    for (Index i = 0; i < cloth_.n; ++i) {
+        x[i] = float(constrained_.x(0, i)), y[i] = float(constrained_.x(1, i)), z[i] = float(constrained_.x(2, i));
+        vx[i] = float(constrained_.v(0, i)), vy[i] = float(constrained_.v(1, i)), vz[i] = float(constrained_.v(2, i));
     }
 }
 
@@ -209,13 +254,16 @@ FLAGSIM_SOLVER_KIND(small_steps) {
     using S = SmallStepsSettings;
     using key = SolverKeys;
     return {"small_steps",
-            "symplectic Euler in small substeps, the air and collisions at every one (the true motion's integrator), in "
-            "float SIMD relative to the pole",
+            "symplectic Euler in small substeps, the air, the constraints and collisions at every one (the true motion's "
+            "integrator), in float SIMD relative to the pole",
             defaultsTo<S>,
             withCommon({key::shown(key::integer("substeps", &S::substeps, 0, 100000,
                                                 "substeps per step; 0 = each step's from the stability bound")),
                         key::real("fraction", &S::fraction, 0, 4, true, false,
                                   "substeps=0: this fraction of the stability bound's longest substep"),
+                        key::real("max_move", &S::maxMove, 0, 1, false, false,
+                                  "substeps=0: no pin, and no particle relative to the pole, moves farther in a "
+                                  "substep (m; 0 = off)"),
                         threadsKey<S>()},
                        false),
             {},
