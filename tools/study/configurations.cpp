@@ -61,6 +61,8 @@ const Configuration kConverged[] = {
 // stable step is ten times shorter). (Two threads give the same bits; the benchmark times them.)
 const Configuration kTrueMotion[] = {
     {.name = "small_steps", .solver = "small_steps"},
+    // and no pin or particle (relative to the pole) moving more than a centimetre in a substep
+    {.name = "small_steps_paced", .solver = "small_steps:max_move=0.01"},
     {.name = "small_steps_f12", .solver = "small_steps:fraction=1.2"},
     {.name = "small_steps_64", .solver = "small_steps:substeps=64"},
     {.name = "small_steps_96", .solver = "small_steps:substeps=96"},
