@@ -1,11 +1,12 @@
 #!/usr/bin/python3
 """The cloth's share of a demo frame: per frame, air + cloth_forces + cloth_solve + collision
 (profile.csv of a flagsim run), mean and 99th percentile, against a real-time budget, and the
-mean's ratio to the demo's run at the same size in the same call (LABEL up to "_stiff").
+mean's ratio to the demo's run at the same size in the same call (LABEL up to "_stiff" or "_true").
 
     tools/bench_cloth_budget.py LABEL:BUDGET_MS:PROFILE_CSV ...
 """
 import csv
+import re
 import sys
 
 PHASES = ["air", "cloth_forces", "cloth_solve", "collision"]
@@ -25,7 +26,7 @@ def main():
         mean = sum(sums) / len(sums)
         p99 = sums[min(len(sums) - 1, int(0.99 * len(sums)))]
         means[label] = mean
-        demo = means.get(label.split("_stiff")[0])
+        demo = means.get(re.sub(r"_(stiff|true).*", "", label))
         ratio = f"{mean / demo:.1f}" if demo else ""
         print(f"| {label} | {len(sums)} | {mean:.2f} | {p99:.2f} | {float(budget):g} | "
               f"{'yes' if mean <= float(budget) else 'no'} | {ratio} |")

@@ -66,6 +66,18 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
         return j;
     };
     EXPECT_EQ(file("flag_vehicle_stiff.json"), file("flag_vehicle.json"));
+    // The true-motion scene is the demo's flag, constraints and all, on small_steps paced at 1 cm
+    // per substep: the demo's scene but for the flag's solver.
+    const SceneConfig trueMotion = loadScene(kScenes + "flag_vehicle_true_motion.json");
+    EXPECT_EQ(trueMotion.flag.solver.describe(), "small_steps:substeps=0,max_move=0.01");
+    EXPECT_EQ(trueMotion.flag.constraints.describe(), demo.flag.constraints.describe());
+    nlohmann::json a = nlohmann::json::parse(std::ifstream(kScenes + "flag_vehicle_true_motion.json"));
+    nlohmann::json b = nlohmann::json::parse(std::ifstream(kScenes + "flag_vehicle.json"));
+    for (nlohmann::json* j : {&a, &b}) {
+        for (const char* key : {"name", "description"}) j->erase(key);
+        (*j)["flag"].erase("solver");
+    }
+    EXPECT_EQ(a, b);
 }
 
 TEST(Scene, SolverKeysFollowTheSolverTable) {
