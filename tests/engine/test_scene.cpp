@@ -53,8 +53,9 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     EXPECT_EQ(stiff.flag.stiffness.structural, 1e4);
     EXPECT_EQ(stiff.flag.stiffness.shear, 1e4);
     EXPECT_EQ(stiff.flag.stiffness.bend, 1e3);
-    // The true motion's integrator made fast, at the demo's rate, its substeps from the bound.
-    EXPECT_EQ(stiff.flag.solver.describe(), "small_steps:substeps=0");
+    // The true motion's integrator made fast, at the demo's rate, its substeps from the bound and
+    // paced at 1 cm.
+    EXPECT_EQ(stiff.flag.solver.describe(), "small_steps:substeps=0,max_move=0.01");
     EXPECT_EQ(stiff.flag.mass, demo.flag.mass);
     EXPECT_EQ(stiff.physicsHz, 240);
     // Apart from the flag's stiffness, its solver and its air, the same scene as the demo's.

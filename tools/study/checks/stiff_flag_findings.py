@@ -17,33 +17,34 @@ XPBD = ["xpbd_960", "xpbd_960_16", "xpbd_1920", "xpbd_chains_1920", "xpbd_3840"]
 
 def c_stiff_flag_ships_the_true_motion(docs):
     scene = json.load(open(os.path.join(ROOT, "assets", "scenes", "flag_vehicle_stiff.json")))
-    need(scene["flag"]["solver"] == {"name": "small_steps"} and scene["timing"]["physics_hz"] == 240,
-         f"flag_vehicle_stiff.json ships {scene['flag']['solver']} at {scene['timing']['physics_hz']} Hz (docs: small_steps, 240 Hz)")
+    need(scene["flag"]["solver"] == {"name": "small_steps", "max_move": 0.01} and scene["timing"]["physics_hz"] == 240,
+         f"flag_vehicle_stiff.json ships {scene['flag']['solver']} at {scene['timing']['physics_hz']} Hz (docs: small_steps paced at 1 cm, 240 Hz)")
     missed = misses_on(docs, "stiff", "shipped")
-    need(missed == {"teleport_1m": "peak"}, f"front.csv: the shipped stiff flag misses {missed} (docs: the teleport's peak alone)")
+    need(not missed, f"front.csv: the shipped stiff flag misses {missed} (docs: nothing)")
     traj = [num(front(docs, "stiff", p, "shipped")["traj_error"]) for p in PATHS]
-    need(max(traj) <= 0.03, f"front.csv: the shipped stiff flag's trajectory error up to {max(traj):.2%} (docs: under 3%)")
+    need(max(traj) <= 0.04, f"front.csv: the shipped stiff flag's trajectory error up to {max(traj):.2%} (docs: under 4%)")
     cost = [num(front(docs, "stiff", p, "shipped")["ms_per_frame"]) for p in PATHS if p != "light_particles"]
     tp = front(docs, "stiff", "teleport_1m", "shipped")
     allowed = 1.5 * num(tp["ref_peak_stretch"]) + 0.02
+    unpaced = front(docs, "stiff", "teleport_1m", "small_steps")
+    need(misses_on(docs, "stiff", "small_steps") == {"teleport_1m": "peak"} and num(unpaced["peak_stretch"]) - allowed < 0.03,
+         f"front.csv: unpaced small_steps misses {misses_on(docs, 'stiff', 'small_steps')}, its teleport peak {unpaced['peak_stretch']} "
+         f"(docs: the teleport's peak alone, by under 3 points)")
+    same = [p for p in PATHS if p != "teleport_1m" and all(front(docs, "stiff", p, "small_steps")[k] == front(docs, "stiff", p, "shipped")[k]
+                                                            for k in ("p99_stretch", "peak_stretch", "ke_patch_late"))]
+    need(len(same) == 6, f"front.csv: unpaced small_steps moves like the shipped step on {same} (docs: the six paths without a jump)")
     peaks = {c: num(front(docs, "stiff", "teleport_1m", c)["peak_stretch"])
              for c in ("reference_half_step", "small_steps_f12", "small_steps_64", "small_steps_96")}
-    need(all(v <= allowed for v in peaks.values()) and num(tp["peak_stretch"]) - allowed < 0.03,
-         f"front.csv: the teleport's peaks {peaks}, shipped {tp['peak_stretch']}, allowed {allowed:.3f}")
+    need(all(v <= allowed for v in peaks.values()), f"front.csv: the teleport's peaks {peaks}, allowed {allowed:.3f}")
     need(not misses_on(docs, "stiff", "small_steps_f12"), "front.csv: small_steps_f12 misses a bound (docs: within all)")
-    need(not misses_on(docs, "stiff", "small_steps_paced"), "front.csv: small_steps_paced misses a bound (docs: within all)")
-    same = [p for p in PATHS if p != "teleport_1m" and all(front(docs, "stiff", p, c)[k] == front(docs, "stiff", p, "shipped")[k]
-                                                            for c in ("small_steps_paced",) for k in ("p99_stretch", "peak_stretch", "ke_patch_late"))]
-    need(len(same) == 6, f"front.csv: small_steps_paced moves like the shipped step on {same} (docs: the six paths without a jump)")
-    paced = front(docs, "stiff", "teleport_1m", "small_steps_paced")
     for c in LONG_STEPS:
         need(misses_on(docs, "stiff", c), f"front.csv: {c} within every bound on all seven paths (docs: none in long steps)")
-    return (f"small_steps at 240 Hz: within every bound on six of seven paths, {min(traj):.2%}-{max(traj):.2%} of the width from "
-            f"the reference, {min(cost):.1f}-{max(cost):.1f} ms per frame (light particles {num(front(docs, 'stiff', 'light_particles', 'shipped')['ms_per_frame']):.0f}); "
-            f"the teleport's peak {num(tp['peak_stretch']):.1%} against {allowed:.1%} allowed, where "
-            f"{', '.join(f'{c} peaks at {v:.1%}' for c, v in peaks.items())}; small_steps_paced, the same stretch and flutter as "
-            f"shipped on the six other paths, "
-            f"peaks at {num(paced['peak_stretch']):.1%} there; no step of 1/240 s or longer is within all")
+    return (f"small_steps paced at 1 cm at 240 Hz: within every bound on all seven paths, {min(traj):.2%}-{max(traj):.2%} of the "
+            f"width from the reference, {min(cost):.1f}-{max(cost):.1f} ms per frame (light particles "
+            f"{num(front(docs, 'stiff', 'light_particles', 'shipped')['ms_per_frame']):.0f}); the teleport's peak "
+            f"{num(tp['peak_stretch']):.1%} against {allowed:.1%} allowed, where unpaced small_steps (the same stretch and flutter on "
+            f"the six other paths) peaks at {num(unpaced['peak_stretch']):.1%}, "
+            f"{', '.join(f'{c} at {v:.1%}' for c, v in peaks.items())}; no step of 1/240 s or longer is within all")
 
 
 def c_reference_converges_under_halving(docs):
@@ -108,7 +109,7 @@ def c_explicit_needs_its_stability_limit(docs):
 # The configurations judged over the teleport ensemble (teleports_stiff.csv): the reference at half its
 # step, the shipped step and the same at other fractions of its stability bound, the double explicit
 # step, BDF2 in steps of 1/960 s, converged and capped at two Newton iterations.
-ENSEMBLE = ["reference_half_step", "shipped", "small_steps_paced", "small_steps_f09", "small_steps_f11", "small_steps_f12",
+ENSEMBLE = ["reference_half_step", "shipped", "small_steps", "small_steps_f09", "small_steps_f11", "small_steps_f12",
             "explicit_96", "newton_bdf2_960", "newton_bdf2_960_2"]
 
 
@@ -135,13 +136,14 @@ def c_teleport_peak_is_chaos(docs):
     held = [c for c in ENSEMBLE if v[c][0]]
     need(held == [c for c in ENSEMBLE if not c.startswith("newton")],
          f"teleports_stiff.csv: within the ensemble's bounds: {held} (docs: all but BDF2)")
-    need(v["shipped"][2] == [1.0], f"teleports_stiff.csv: the shipped step misses the peak at {v['shipped'][2]} m (docs: 1 m alone)")
+    need(v["small_steps"][2] == [1.0] and not v["shipped"][2],
+         f"teleports_stiff.csv: unpaced small_steps misses the peak at {v['small_steps'][2]} m, the shipped step at {v['shipped'][2]} m "
+         "(docs: 1 m alone, never)")
     need(num(stiff_teleports(docs, "shipped")[1.0]["peak_stretch"]) == num(front(docs, "stiff", "teleport_1m", "shipped")["peak_stretch"]),
          "teleports_stiff.csv and front.csv disagree on the shipped step's 1 m teleport")
-    need(not v["small_steps_f12"][2] and v["small_steps_f12"][1] > v["shipped"][1],
+    need(not v["small_steps_f12"][2] and v["small_steps_f12"][1] > v["small_steps"][1],
          f"teleports_stiff.csv: small_steps_f12 misses at {v['small_steps_f12'][2]} m, median {v['small_steps_f12'][1]:.3f} "
-         f"against the shipped {v['shipped'][1]:.3f} (docs: within on every jump, yet a higher median)")
-    need(not v["small_steps_paced"][2], f"teleports_stiff.csv: small_steps_paced misses the peak at {v['small_steps_paced'][2]} m (docs: never)")
+         f"against small_steps' {v['small_steps'][1]:.3f} (docs: within on every jump, yet a higher median)")
     for c in ("newton_bdf2_960", "newton_bdf2_960_2"):
         need(not misses_on(docs, "stiff", c).get("teleport_1m"), f"front.csv: {c} misses on the 1 m teleport (docs: within there)")
     traj = {c: statistics.median(num(r["traj_error"]) for r in stiff_teleports(docs, c).values())
