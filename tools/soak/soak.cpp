@@ -21,8 +21,8 @@ namespace soak {
 
 namespace {
 
-const std::vector<std::string> kWindowScenes = {"flag_vehicle", "flag_vehicle_stiff", "flag_vehicle_hd",
-                                                "hanging_flag", "vehicle_only"};
+const std::vector<std::string> kWindowScenes = {"flag_vehicle", "flag_vehicle_stiff", "flag_vehicle_true_motion",
+                                                "flag_vehicle_hd", "hanging_flag", "vehicle_only"};
 
 // Memory is judged between segments, when the segment's runtimes are gone (and the freed heap is
 // returned): after the warm-up, no such floor more than 5% above the warm-up's highest floor. A
