@@ -90,9 +90,12 @@ void referenceStep(Scenario& sc, const StepInput& in, int n, Solver& explicitEul
     }
 }
 
-// `steps` steps of small_steps on sc; with `after`, these constraints once after each step.
-State runSmallSteps(const std::string& spec, int steps, Scenario sc = Scenario(17), ConstraintSet* after = nullptr) {
+// `steps` steps of small_steps on sc, with `within` as the solver's constraints; with `after`,
+// these constraints once after each step.
+State runSmallSteps(const std::string& spec, int steps, Scenario sc = Scenario(17), const Constraints& within = {},
+                    ConstraintSet* after = nullptr) {
     auto solver = solverFor(spec);
+    solver->setConstraints(within);
     std::vector<Collider> colliders;
     for (int s = 0; s < steps; ++s) {
         StepInput in = sc.input(s);
@@ -190,23 +193,14 @@ TEST(SmallSteps, RunsTheConstraintsAfterEverySubstep) {
     explicitEuler->setConstraints(demoConstraints());
     for (int s = 0; s < kSteps; ++s) referenceStep(ref, ref.input(s), 40, *explicitEuler);
 
-    auto spec = "small_steps:substeps=40";
-    auto solver = solverFor(spec);
-    solver->setConstraints(demoConstraints());
-    Scenario fast = demoFlag(17);
-    std::vector<Collider> colliders;
-    for (int s = 0; s < kSteps; ++s) {
-        StepInput in = fast.input(s);
-        colliders = {fast.pole};
-        in.air = &fast.air, in.colliders = &colliders, in.thickness = 0.01, in.collisionSkip = &fast.skip;
-        ASSERT_EQ(solver->step(fast.flag.model, Environment{}, fast.flag.state, in).status, StepStatus::Ok);
-    }
-    const double error = rmsOverWidth(fast.flag.state.x, ref.flag.state.x);
+    const auto spec = "small_steps:substeps=40";
+    const State fast = runSmallSteps(spec, kSteps, demoFlag(17), demoConstraints());
+    const double error = rmsOverWidth(fast.x, ref.flag.state.x);
     EXPECT_LT(error, 1e-4);
 
     ConstraintSet oncePerStep;
     oncePerStep.set(demoConstraints());
-    const State once = runSmallSteps(spec, kSteps, demoFlag(17), &oncePerStep);
+    const State once = runSmallSteps(spec, kSteps, demoFlag(17), {}, &oncePerStep);
     EXPECT_GT(rmsOverWidth(once.x, ref.flag.state.x), 10 * error);
 }
 
