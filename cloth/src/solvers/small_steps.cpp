@@ -94,6 +94,7 @@ private:
 
     void load(const Model& model, const Environment& env, const State& state, const StepInput& input);
     void loadPins(const StepInput& input);
+    int substepsOf(const Model& model, const State& state, const StepInput& input) const;
     void runSubsteps();
     void worker(int index);
     void constrain();
@@ -152,15 +153,20 @@ void SmallStepsSolver::load(const Model& model, const Environment& env, const St
         c.extX = external_.x.at(), c.extY = external_.y.at(), c.extZ = external_.z.at();
     }
     colliders_.prepare(input.colliders, input.thickness, input.collisionSkip, origin_);
-    plan_.substeps = own().substeps > 0 ? own().substeps
-                                        : std::max(stableSubsteps(input.h, springFrequency_,
-                                                                  airRateBound(model, state, input.air), own().fraction),
-                                                   pacedSubsteps(largestMove(plan_.pinStart, plan_.pinEnd, state,
-                                                                             poleVelocity(input), input.h),
-                                                                 own().maxMove));
+    plan_.substeps = substepsOf(model, state, input);
     lastSubsteps_ = plan_.substeps;
     plan_.h = input.h / plan_.substeps;
     c.h = float(plan_.h);
+}
+
+// This step's substeps: the fixed count, or the stability bound's, and with max_move the paced
+// count where it is larger (the step's largest move is measured only then).
+int SmallStepsSolver::substepsOf(const Model& model, const State& state, const StepInput& input) const {
+    if (own().substeps > 0) return own().substeps;
+    const int stable = stableSubsteps(input.h, springFrequency_, airRateBound(model, state, input.air), own().fraction);
+    if (own().maxMove <= 0) return stable;
+    const Scalar move = largestMove(plan_.pinStart, plan_.pinEnd, state, poleVelocity(input), input.h);
+    return std::max(stable, pacedSubsteps(move, own().maxMove));
 }
 
 // The pinned particles move on a straight line from where they are to their targets over the
