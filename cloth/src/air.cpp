@@ -80,12 +80,6 @@ Mat3 triangleBlock(const State& state, const Triangle& t, const Vec3& wind, cons
     return m;
 }
 
-// A loop over [0, size) on the pool's threads when it has more than one, else here.
-void runLoop(ThreadPool* pool, Index size, const std::function<void(int, int)>& body) {
-    if (pool && pool->threads() > 1) pool->run(int(size), body);
-    else body(0, int(size));
-}
-
 }  // namespace
 
 void addAirForces(const Model& model, const State& state, const AirParams& air, Points& f,
@@ -207,9 +201,11 @@ Mat3 dampingBlock(const Mat3& dfdv) {
     return projectByEigenvectors(sym);
 }
 
-void airDamping(const std::vector<Mat3>& velocityJacobian, std::vector<Mat3>& damping) {
+void airDamping(const std::vector<Mat3>& velocityJacobian, std::vector<Mat3>& damping, ThreadPool* pool) {
     damping.resize(velocityJacobian.size());
-    for (std::size_t i = 0; i < velocityJacobian.size(); ++i) damping[i] = dampingBlock(velocityJacobian[i]);
+    runLoop(pool, Index(velocityJacobian.size()), [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) damping[i] = dampingBlock(velocityJacobian[i]);
+    });
 }
 
 }  // namespace cloth

@@ -94,15 +94,15 @@ CLOTH_INLINE inline void triangleShare(const TrianglePass& p, int t) {
     for (int r = 0; r < 3; ++r) storeStrided<V>(p.share, std::size_t(t), 3, r, dF[r] / 3);
 }
 
-CLOTH_SIMD_CLONES void triangleShares(const TrianglePass& p, int count) {
-    int t = 0;
-    for (; t + kLanes<double> <= count; t += kLanes<double>) triangleShare<Pack<double>>(p, t);
-    for (; t < count; ++t) triangleShare<double>(p, t);
+CLOTH_SIMD_CLONES void triangleShares(const TrianglePass& p, int begin, int end) {
+    int t = begin;
+    for (; t + kLanes<double> <= end; t += kLanes<double>) triangleShare<Pack<double>>(p, t);
+    for (; t < end; ++t) triangleShare<double>(p, t);
 }
 
 }  // namespace
 
-void AirJacobian::compute(const Model& model, const State& state, const AirParams& air) {
+void AirJacobian::compute(const Model& model, const State& state, const AirParams& air, ThreadPool* pool) {
     const auto& triangles = model.triangles();
     const std::size_t count = triangles.size();
     for (auto* arrays : {&dFdw_, &dFdN_})
@@ -110,43 +110,57 @@ void AirJacobian::compute(const Model& model, const State& state, const AirParam
     for (auto* arrays : {&e1_, &e2_})
         for (std::vector<Scalar>& coordinate : *arrays) coordinate.resize(count);
     share_.resize(3 * count);
-    for (std::size_t t = 0; t < count; ++t) {
-        const Triangle& tri = triangles[t];
-        const Vec3 a = state.x.col(tri[0]), e1 = state.x.col(tri[1]) - a, e2 = state.x.col(tri[2]) - a;
-        const Vec3 w = air.wind - (state.v.col(tri[0]) + state.v.col(tri[1]) + state.v.col(tri[2])) / 3;
-        const TriangleDerivative d = derivative(e1.cross(e2), w, air);
-        for (int r = 0; r < 3; ++r) {
-            e1_[r][t] = e1[r], e2_[r][t] = e2[r];
-            for (int c = 0; c < 3; ++c) dFdw_[3 * r + c][t] = d.dFdw(r, c), dFdN_[3 * r + c][t] = d.dFdN(r, c);
+    runLoop(pool, int(count), [&](int begin, int end) {
+        for (int t = begin; t < end; ++t) {
+            const Triangle& tri = triangles[t];
+            const Vec3 a = state.x.col(tri[0]), e1 = state.x.col(tri[1]) - a, e2 = state.x.col(tri[2]) - a;
+            const Vec3 w = air.wind - (state.v.col(tri[0]) + state.v.col(tri[1]) + state.v.col(tri[2])) / 3;
+            const TriangleDerivative d = derivative(e1.cross(e2), w, air);
+            for (int r = 0; r < 3; ++r) {
+                e1_[r][t] = e1[r], e2_[r][t] = e2[r];
+                for (int c = 0; c < 3; ++c) dFdw_[3 * r + c][t] = d.dFdw(r, c), dFdN_[3 * r + c][t] = d.dFdN(r, c);
+            }
         }
-    }
+    });
+}
+
+void AirJacobian::triangleParts(const Model& model, const double* in, Scalar positionScale, Scalar velocityScale,
+                                ThreadPool* pool) const {
+    TrianglePass pass{&model.triangles()[0][0], in, positionScale, velocityScale, {}, {}, {}, {}, share_.data()};
+    for (int k = 0; k < 9; ++k) pass.dFdw[k] = dFdw_[k].data(), pass.dFdN[k] = dFdN_[k].data();
+    for (int k = 0; k < 3; ++k) pass.e1[k] = e1_[k].data(), pass.e2[k] = e2_[k].data();
+    runLoop(pool, int(model.triangles().size()), [&](int begin, int end) { triangleShares(pass, begin, end); });
+}
+
+void AirJacobian::addParts(const Model& model, Index p, double* out) const {
+    const Index* start = model.triStart().data();
+    const Index* of = model.triOf().data();
+    for (Index k = start[p]; k < start[p + 1]; ++k)
+        for (int c = 0; c < 3; ++c) out[c] += share_[3 * std::size_t(of[k]) + c];
 }
 
 void AirJacobian::apply(const Model& model, const double* in, Scalar positionScale, Scalar velocityScale,
                         double* out) const {
-    TrianglePass pass{&model.triangles()[0][0], in, positionScale, velocityScale, {}, {}, {}, {}, share_.data()};
-    for (int k = 0; k < 9; ++k) pass.dFdw[k] = dFdw_[k].data(), pass.dFdN[k] = dFdN_[k].data();
-    for (int k = 0; k < 3; ++k) pass.e1[k] = e1_[k].data(), pass.e2[k] = e2_[k].data();
-    triangleShares(pass, int(model.triangles().size()));
-    const Index* start = model.triStart().data();
-    const Index* of = model.triOf().data();
-    for (Index p = 0; p < model.particleCount(); ++p)
-        for (Index k = start[p]; k < start[p + 1]; ++k)
-            for (int c = 0; c < 3; ++c) out[3 * p + c] += share_[3 * std::size_t(of[k]) + c];
+    triangleParts(model, in, positionScale, velocityScale);
+    for (Index p = 0; p < model.particleCount(); ++p) addParts(model, p, out + 3 * std::size_t(p));
 }
 
-void AirJacobian::velocityDiagonal(const Model& model, std::vector<Mat3>& out) const {
+void AirJacobian::velocityDiagonal(const Model& model, std::vector<Mat3>& out, ThreadPool* pool) const {
     const std::size_t count = model.triangles().size();
     ninth_.resize(9 * count);  // each triangle's dF/dw / 9, its 9 entries together
-    for (std::size_t t = 0; t < count; ++t)
-        for (int e = 0; e < 9; ++e) ninth_[9 * t + e] = dFdw_[e][t] / 9;
+    runLoop(pool, int(count), [&](int begin, int end) {
+        for (int t = begin; t < end; ++t)
+            for (int e = 0; e < 9; ++e) ninth_[9 * std::size_t(t) + e] = dFdw_[e][t] / 9;
+    });
     out.assign(model.particleCount(), Mat3::Zero());
     const Index* start = model.triStart().data();
     const Index* of = model.triOf().data();
-    for (Index p = 0; p < model.particleCount(); ++p)
-        for (Index k = start[p]; k < start[p + 1]; ++k)
-            for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 3; ++c) out[p](r, c) -= ninth_[9 * std::size_t(of[k]) + 3 * r + c];
+    runLoop(pool, int(model.particleCount()), [&](int begin, int end) {
+        for (Index p = begin; p < end; ++p)
+            for (Index k = start[p]; k < start[p + 1]; ++k)
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) out[p](r, c) -= ninth_[9 * std::size_t(of[k]) + 3 * r + c];
+    });
 }
 
 }  // namespace cloth

@@ -54,7 +54,8 @@ Mat3 dampingBlock(const Mat3& dfdv);
 Scalar smallestEigenvalue(const Mat3& symmetric);
 
 // -df_i/dv_i of the air for every particle, as dampingBlock()s: what StepInput::damping takes.
-void airDamping(const std::vector<Mat3>& velocityJacobian, std::vector<Mat3>& damping);
+// Split among `pool`'s threads when given (each block alone: the same bits).
+void airDamping(const std::vector<Mat3>& velocityJacobian, std::vector<Mat3>& damping, ThreadPool* pool = nullptr);
 
 // The air force's whole derivative at one state, for a step that couples the air fully
 // (newton): df/dx, through each triangle's normal and area, and df/dv, through the relative air.
@@ -64,11 +65,18 @@ void airDamping(const std::vector<Mat3>& velocityJacobian, std::vector<Mat3>& da
 // order addAirForces sums (the same bits for any thread count).
 class AirJacobian {
 public:
-    void compute(const Model& model, const State& state, const AirParams& air);
+    // Each pass below is split among `pool`'s threads when given: a triangle's or a particle's
+    // work is done alone, so the bits do not depend on the thread count.
+    void compute(const Model& model, const State& state, const AirParams& air, ThreadPool* pool = nullptr);
     // out += (positionScale df/dx + velocityScale df/dv) in, all 3n particle-major.
     void apply(const Model& model, const double* in, Scalar positionScale, Scalar velocityScale, double* out) const;
+    // apply() in two parts, for a caller that fuses the second into a pass of its own: each
+    // triangle's part of the product, then particle p's sum of its triangles' parts (out: 3 numbers).
+    void triangleParts(const Model& model, const double* in, Scalar positionScale, Scalar velocityScale,
+                       ThreadPool* pool = nullptr) const;
+    void addParts(const Model& model, Index p, double* out) const;
     // df_i/dv_i: the diagonal blocks of df/dv (addAirForces' velocityJacobian).
-    void velocityDiagonal(const Model& model, std::vector<Mat3>& out) const;
+    void velocityDiagonal(const Model& model, std::vector<Mat3>& out, ThreadPool* pool = nullptr) const;
 
 private:
     // Per triangle, as structures of arrays so that a product takes a pack of triangles at once:

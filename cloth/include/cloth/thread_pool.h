@@ -48,4 +48,10 @@ private:
     std::vector<Span> spans_;  // per worker, read once pending_ is 0
 };
 
+// fn(begin, end) over [0, n): on the pool's threads, or all here when there is no pool.
+inline void runLoop(ThreadPool* pool, int n, const std::function<void(int, int)>& fn) {
+    if (pool) pool->run(n, fn);
+    else fn(0, n);
+}
+
 }  // namespace cloth

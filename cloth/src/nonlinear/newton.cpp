@@ -27,22 +27,14 @@ NewtonSolve::~NewtonSolve() = default;
 // on every compressed spring.
 void NewtonSolve::linearize(const StepEquations& eq, const State& at, bool exact) {
     compressed_.clear();
-    if (exact && eq.compressionRule)
-        for (std::size_t s = 0; s < eq.model.springs().size(); ++s) {
-            const Spring& sp = eq.model.springs()[s];
-            const Vec3 d = at.x.col(sp.j) - at.x.col(sp.i);
-            const Scalar L = d.norm();
-            if (!(L < sp.rest) || L < kMinSpringLength) continue;
-            const Vec3 u = d / L;
-            compressed_.push_back({sp.i, sp.j, sp.k * (1 - sp.rest / L) * (Mat3::Identity() - u * u.transpose())});
-        }
+    if (exact && eq.compressionRule) compressed_.build(eq.model, at.x, *pool_);
     StepInput in;
     in.h = eq.k;
     in.pins = eq.input.pins;
     if (eq.input.air) {
-        air_.compute(eq.model, at, *eq.input.air);
-        air_.velocityDiagonal(eq.model, airDiagonal_);
-        airDamping(airDiagonal_, airDamping_);
+        air_.compute(eq.model, at, *eq.input.air, pool_.get());
+        air_.velocityDiagonal(eq.model, airDiagonal_, pool_.get());
+        airDamping(airDiagonal_, airDamping_, pool_.get());
         in.damping = &airDamping_;
     } else {
         in.damping = eq.input.damping;  // the caller's frozen air's drag, implicit in velocity
@@ -50,39 +42,38 @@ void NewtonSolve::linearize(const StepEquations& eq, const State& at, bool exact
     multigrid_.prepareSystem({eq.model, eq.env, at, in, eq.compressionRule});
 }
 
-// delta from A delta = rhs, A = W + k (df/dv + k df/dx of the air) - k C_air (W: the hierarchy's
-// level 0, which holds the air's symmetric positive diagonal C_air).
-int NewtonSolve::solveLinear(const StepEquations& eq, const NewtonControl& control, const Points& rhs, Points& delta) {
-    const Model& model = eq.model;
+// y = A x, A = W + k (df/dv + k df/dx of the air) - k C_air - k^2 (J - J_17) (W: the hierarchy's
+// level 0, which holds eq. 17's springs and the air's symmetric positive diagonal C_air). Each
+// pass is split among the pool's threads; a row adds its terms in a fixed order.
+void NewtonSolve::product(const StepEquations& eq, const std::vector<double>& x, std::vector<double>& y) {
     const Scalar k = eq.k;
     const bool air = eq.input.air != nullptr;
-    KrylovSystem<double> system;
-    system.apply = [&](const std::vector<double>& x, std::vector<double>& y) {
-        multigrid_.product(x, y);
-        for (const Compressed& c : compressed_) {  // A = M - k D - k^2 K with K exact
-            if (pinned_[c.i] && pinned_[c.j]) continue;
-            const Vec3 d = (k * k) * (c.dJ * (Vec3(x[3 * c.j], x[3 * c.j + 1], x[3 * c.j + 2]) -
-                                               Vec3(x[3 * c.i], x[3 * c.i + 1], x[3 * c.i + 2])));
-            for (int a = 0; a < 3; ++a) {
-                if (!pinned_[c.i]) y[3 * c.i + a] -= d[a];
-                if (!pinned_[c.j]) y[3 * c.j + a] += d[a];
-            }
-        }
-        if (!air) return;
-        scratch_.assign(x.size(), 0.0);
-        air_.apply(model, x.data(), k * k, k, scratch_.data());
-        for (Index i = 0; i < model.particleCount(); ++i) {
+    multigrid_.product(x, y);
+    compressed_.differences(x.data(), k * k, *pool_);
+    if (air) air_.triangleParts(eq.model, x.data(), k * k, k, pool_.get());
+    pool_->run(int(eq.model.particleCount()), [&](int begin, int end) {
+        for (Index i = begin; i < end; ++i) {
             if (pinned_[i]) continue;
+            compressed_.subtractAt(i, y.data());
+            if (!air) continue;
+            double parts[3] = {0, 0, 0};
+            air_.addParts(eq.model, i, parts);
             const Vec3 c = airDamping_[i] * Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-            for (int a = 0; a < 3; ++a) y[3 * i + a] -= k * c[a] + scratch_[3 * i + a];
+            for (int a = 0; a < 3; ++a) y[3 * i + a] -= k * c[a] + parts[a];
         }
-    };
+    });
+}
+
+// delta from A delta = rhs (product() above), by flexible GMRES preconditioned by W's cycles.
+int NewtonSolve::solveLinear(const StepEquations& eq, const NewtonControl& control, const Points& rhs, Points& delta) {
+    KrylovSystem<double> system;
+    system.apply = [&](const std::vector<double>& x, std::vector<double>& y) { product(eq, x, y); };
     system.precondition = [&](const std::vector<double>& r, std::vector<double>& z) { multigrid_.precondition(r, z); };
     b_.assign(rhs.data(), rhs.data() + rhs.size());
     x_.assign(b_.size(), 0.0);
     double rel = 0;
     const int iterations = gmres_.solve(system, {30, control.maxLinearIterations, control.linearTolerance}, b_, x_, rel);
-    delta = Eigen::Map<const Points>(x_.data(), 3, model.particleCount());
+    delta = Eigen::Map<const Points>(x_.data(), 3, eq.model.particleCount());
     return iterations;
 }
 

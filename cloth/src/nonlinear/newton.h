@@ -23,6 +23,7 @@
 #include "../multigrid/multigrid.h"
 #include "../multigrid/reductions.h"
 #include "cloth/air.h"
+#include "compressed_springs.h"
 #include "step_equations.h"
 
 namespace cloth {
@@ -52,6 +53,7 @@ public:
 private:
     void linearize(const StepEquations& eq, const State& at, bool exact);
     int solveLinear(const StepEquations& eq, const NewtonControl& control, const Points& rhs, Points& delta);
+    void product(const StepEquations& eq, const std::vector<double>& x, std::vector<double>& y);
     Scalar evaluate(const StepEquations& eq, const State& at);
     bool lineSearch(const StepEquations& eq, const Points& delta, State& iterate, Scalar& merit, NewtonStats& stats);
 
@@ -63,13 +65,9 @@ private:
     AirWorkspace airWorkspace_;
     std::vector<Mat3> airDiagonal_, airDamping_;
     std::vector<std::uint8_t> pinned_;
-    struct Compressed {
-        Index i, j;
-        Mat3 dJ;
-    };
-    std::vector<Compressed> compressed_;
+    CompressedSprings compressed_;
     Points force_, residual_, trialForce_, trialResidual_;
-    std::vector<double> b_, x_, scratch_;
+    std::vector<double> b_, x_;
 };
 
 }  // namespace cloth
