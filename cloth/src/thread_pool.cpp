@@ -43,10 +43,15 @@ void ThreadPool::run(int n, const std::function<void(int, int)>& fn) {
 void ThreadPool::worker(int index) {
     unsigned seen = 0;
     for (;;) {
-        // Spin a little (the next region usually follows within microseconds), then sleep in
-        // the kernel so an idle pool costs no CPU (the renderer needs that core).
+        // Spin for a while (the next region usually follows within tens of microseconds: a
+        // Newton step's serial parts between its regions last that long), then sleep in the
+        // kernel so an idle pool costs no CPU (the renderer needs that core).
         unsigned g = generation_.load(std::memory_order_acquire);
-        for (int spins = 0; g == seen && spins < 4000; ++spins) g = generation_.load(std::memory_order_acquire);
+        const Clock::time_point until = Clock::now() + kSpin;
+        for (int spins = 1; g == seen; ++spins) {
+            g = generation_.load(std::memory_order_acquire);
+            if (spins % 256 == 0 && Clock::now() > until) break;
+        }
         while (g == seen) {
             generation_.wait(seen, std::memory_order_acquire);
             g = generation_.load(std::memory_order_acquire);

@@ -2,9 +2,9 @@
 // A small persistent thread pool for data-parallel loops. `run(n, fn)` splits [0, n) into one
 // contiguous chunk per thread; the split depends only on n and the thread count, and each index
 // is processed by exactly one call, so a kernel that writes only its own indices gives the same
-// bits for any thread count. Workers spin briefly, then yield, between jobs: a cloth step has
-// several short parallel regions and a sleeping thread takes longer to wake than a region lasts;
-// after that they sleep on the counter (futex), so an idle pool costs nothing.
+// bits for any thread count. Workers spin for up to kSpin between jobs: a cloth step has many
+// short parallel regions and a sleeping thread takes longer to wake than a region lasts; after
+// that they sleep on the counter (futex), so an idle pool costs nothing.
 
 #include <atomic>
 #include <chrono>
@@ -32,6 +32,7 @@ public:
     void setObserver(Observer observer) { observer_ = std::move(observer); }
 
 private:
+    static constexpr std::chrono::microseconds kSpin{100};
     void worker(int index);
     int threads_;
     std::vector<std::thread> workers_;
