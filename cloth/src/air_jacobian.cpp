@@ -132,17 +132,18 @@ void AirJacobian::triangleParts(const Model& model, const double* in, Scalar pos
     runLoop(pool, int(model.triangles().size()), [&](int begin, int end) { triangleShares(pass, begin, end); });
 }
 
-void AirJacobian::addParts(const Model& model, Index p, double* out) const {
+void AirJacobian::addParts(const Model& model, int begin, int end, double* out) const {
     const Index* start = model.triStart().data();
     const Index* of = model.triOf().data();
-    for (Index k = start[p]; k < start[p + 1]; ++k)
-        for (int c = 0; c < 3; ++c) out[c] += share_[3 * std::size_t(of[k]) + c];
+    for (Index p = begin; p < end; ++p)
+        for (Index k = start[p]; k < start[p + 1]; ++k)
+            for (int c = 0; c < 3; ++c) out[3 * p + c] += share_[3 * std::size_t(of[k]) + c];
 }
 
 void AirJacobian::apply(const Model& model, const double* in, Scalar positionScale, Scalar velocityScale,
                         double* out) const {
     triangleParts(model, in, positionScale, velocityScale);
-    for (Index p = 0; p < model.particleCount(); ++p) addParts(model, p, out + 3 * std::size_t(p));
+    addParts(model, 0, int(model.particleCount()), out);
 }
 
 void AirJacobian::velocityDiagonal(const Model& model, std::vector<Mat3>& out, ThreadPool* pool) const {

@@ -70,11 +70,12 @@ public:
     void compute(const Model& model, const State& state, const AirParams& air, ThreadPool* pool = nullptr);
     // out += (positionScale df/dx + velocityScale df/dv) in, all 3n particle-major.
     void apply(const Model& model, const double* in, Scalar positionScale, Scalar velocityScale, double* out) const;
-    // apply() in two parts, for a caller that fuses the second into a pass of its own: each
-    // triangle's part of the product, then particle p's sum of its triangles' parts (out: 3 numbers).
+    // apply() in two parts, for a caller that splits the second among threads of its own: each
+    // triangle's part of the product, then out += the sums of those parts for particles
+    // [begin, end).
     void triangleParts(const Model& model, const double* in, Scalar positionScale, Scalar velocityScale,
                        ThreadPool* pool = nullptr) const;
-    void addParts(const Model& model, Index p, double* out) const;
+    void addParts(const Model& model, int begin, int end, double* out) const;
     // df_i/dv_i: the diagonal blocks of df/dv (addAirForces' velocityJacobian).
     void velocityDiagonal(const Model& model, std::vector<Mat3>& out, ThreadPool* pool = nullptr) const;
 

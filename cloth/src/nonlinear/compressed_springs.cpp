@@ -18,57 +18,74 @@ bool compressedTerm(const Spring& sp, const Points& x, Mat3& dJ) {
 
 }  // namespace
 
-void CompressedSprings::clear() {
-    springs_.clear();
-    d_.clear();
-    start_.clear();
-    of_.clear();
-}
+void CompressedSprings::clear() { springs_.clear(); }
 
 void CompressedSprings::build(const Model& model, const Points& x, ThreadPool& pool) {
+    springs_.clear();
+    if (pool.threads() == 1) {
+        Mat3 dJ;
+        for (const Spring& sp : model.springs())
+            if (compressedTerm(sp, x, dJ)) springs_.push_back({sp.i, sp.j, dJ});
+        return;
+    }
+    collect(model, x, pool);
+    listByParticle(model.particleCount());
+}
+
+// The compressed springs in their order, each spring's test and dJ split among the threads.
+void CompressedSprings::collect(const Model& model, const Points& x, ThreadPool& pool) {
     const std::vector<Spring>& springs = model.springs();
-    const int count = int(springs.size());
     all_.resize(springs.size());
     isCompressed_.resize(springs.size());
-    pool.run(count, [&](int begin, int end) {
-        for (int s = begin; s < end; ++s) {
-            isCompressed_[s] = compressedTerm(springs[s], x, all_[s].dJ);
-            all_[s].i = springs[s].i, all_[s].j = springs[s].j;
-        }
+    pool.run(int(springs.size()), [&](int begin, int end) {
+        for (int s = begin; s < end; ++s) isCompressed_[s] = compressedTerm(springs[s], x, all_[s]);
     });
-    springs_.clear();
-    for (int s = 0; s < count; ++s)
-        if (isCompressed_[s]) springs_.push_back(all_[s]);
-    const Index n = model.particleCount();
+    for (std::size_t s = 0; s < springs.size(); ++s)
+        if (isCompressed_[s]) springs_.push_back({springs[s].i, springs[s].j, all_[s]});
+}
+
+void CompressedSprings::listByParticle(Index n) {
     start_.assign(std::size_t(n) + 1, 0);
     for (const Entry& e : springs_) ++start_[e.i + 1], ++start_[e.j + 1];
     for (Index p = 0; p < n; ++p) start_[p + 1] += start_[p];
     of_.resize(std::size_t(start_[n]));
     std::vector<Index> next(start_.begin(), start_.end() - 1);
-    for (Index c = 0; c < Index(springs_.size()); ++c) of_[next[springs_[c].i]++] = c, of_[next[springs_[c].j]++] = c;
+    for (Index c = 0; c < Index(springs_.size()); ++c)
+        of_[next[springs_[c].i]++] = 2 * c, of_[next[springs_[c].j]++] = 2 * c + 1;
 }
 
-void CompressedSprings::differences(const double* x, Scalar scale, ThreadPool& pool) {
+Vec3 CompressedSprings::term(const Entry& e, const double* x, Scalar scale) const {
+    return scale * (e.dJ * (Vec3(x[3 * e.j], x[3 * e.j + 1], x[3 * e.j + 2]) -
+                            Vec3(x[3 * e.i], x[3 * e.i + 1], x[3 * e.i + 2])));
+}
+
+void CompressedSprings::subtract(const double* x, Scalar scale, const std::vector<std::uint8_t>& pinned, double* y,
+                                 ThreadPool& pool) {
+    if (springs_.empty()) return;
+    if (pool.threads() == 1) {
+        for (const Entry& e : springs_) {
+            if (pinned[e.i] && pinned[e.j]) continue;
+            const Vec3 d = term(e, x, scale);
+            for (int a = 0; a < 3; ++a) {
+                if (!pinned[e.i]) y[3 * e.i + a] -= d[a];
+                if (!pinned[e.j]) y[3 * e.j + a] += d[a];
+            }
+        }
+        return;
+    }
     d_.resize(springs_.size());
     pool.run(int(springs_.size()), [&](int begin, int end) {
-        for (int c = begin; c < end; ++c) {
-            const Entry& e = springs_[c];
-            d_[c] = scale * (e.dJ * (Vec3(x[3 * e.j], x[3 * e.j + 1], x[3 * e.j + 2]) -
-                                     Vec3(x[3 * e.i], x[3 * e.i + 1], x[3 * e.i + 2])));
+        for (int c = begin; c < end; ++c) d_[c] = term(springs_[c], x, scale);
+    });
+    pool.run(int(start_.size()) - 1, [&](int begin, int end) {
+        for (Index p = begin; p < end; ++p) {
+            if (pinned[p]) continue;
+            for (Index k = start_[p]; k < start_[p + 1]; ++k) {
+                const Vec3& d = d_[of_[k] / 2];
+                for (int a = 0; a < 3; ++a) y[3 * p + a] += of_[k] % 2 == 0 ? -d[a] : d[a];
+            }
         }
     });
-}
-
-void CompressedSprings::subtractAt(Index p, double* y) const {
-    if (start_.empty()) return;
-    for (Index k = start_[p]; k < start_[p + 1]; ++k) {
-        const Index c = of_[k];
-        const Vec3& d = d_[c];
-        if (springs_[c].i == p)
-            for (int a = 0; a < 3; ++a) y[3 * p + a] -= d[a];
-        else
-            for (int a = 0; a < 3; ++a) y[3 * p + a] += d[a];
-    }
 }
 
 }  // namespace cloth

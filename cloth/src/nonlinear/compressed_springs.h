@@ -1,12 +1,12 @@
 #pragma once
 // What eq. 17 leaves out of the exact Newton matrix: on every compressed spring (L < l0),
 //   J - J_17 = k (1 - l0/L) (I - u u^T) = dJ.
-// The exact product subtracts h^2 dJ (x_j - x_i) from row i and adds it to row j. Kept in the
-// springs' order with each particle's compressed springs listed in that order, so that the
-// product is one pass over the springs and one over the particles, both split among a pool's
-// threads, and each row adds its terms in the order of a single loop over the springs: the same
-// bits for any thread count.
+// The exact product subtracts h^2 dJ (x_j - x_i) from row i and adds it to row j. On one thread
+// that is one pass over the compressed springs in their order. On more, each spring's term is
+// computed once, then each row gathers its springs' terms in the springs' order: every row adds
+// the same numbers in the same order, so the bits do not depend on the thread count.
 
+#include <cstdint>
 #include <vector>
 
 #include "cloth/model.h"
@@ -20,21 +20,25 @@ public:
     void build(const Model& model, const Points& x, ThreadPool& pool);
     void clear();
     bool empty() const { return springs_.empty(); }
-    // d_s = scale dJ_s (x_j - x_i) for every compressed spring s; x is 3n particle-major.
-    void differences(const double* x, Scalar scale, ThreadPool& pool);
-    // Row p of the product: y_p -= d_s where p is the spring's first end, += where its second,
-    // over p's compressed springs in the springs' order (after differences()).
-    void subtractAt(Index p, double* y) const;
+    // y -= scale (J - J_17) x on the rows of the unpinned particles; x and y are 3n particle-major.
+    void subtract(const double* x, Scalar scale, const std::vector<std::uint8_t>& pinned, double* y,
+                  ThreadPool& pool);
 
 private:
     struct Entry {
         Index i, j;
         Mat3 dJ;
     };
+    void collect(const Model& model, const Points& x, ThreadPool& pool);
+    void listByParticle(Index n);
+    Vec3 term(const Entry& e, const double* x, Scalar scale) const;
+
     std::vector<Entry> springs_;
+    // With more than one thread: each spring's term, and of_[start_[p] .. start_[p + 1]) p's
+    // compressed springs c, as 2 c when p is c's first end, 2 c + 1 when its second.
     std::vector<Vec3> d_;
-    std::vector<Index> start_, of_;  // of_[start_[p] .. start_[p + 1]): p's compressed springs
-    std::vector<Entry> all_;         // build()'s scratch: one per spring
+    std::vector<Index> start_, of_;
+    std::vector<Mat3> all_;  // collect()'s scratch: one per spring
     std::vector<std::uint8_t> isCompressed_;
 };
 

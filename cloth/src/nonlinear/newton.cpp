@@ -2,6 +2,7 @@
 
 #include "cloth/forces.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -49,17 +50,17 @@ void NewtonSolve::product(const StepEquations& eq, const std::vector<double>& x,
     const Scalar k = eq.k;
     const bool air = eq.input.air != nullptr;
     multigrid_.product(x, y);
-    compressed_.differences(x.data(), k * k, *pool_);
-    if (air) air_.triangleParts(eq.model, x.data(), k * k, k, pool_.get());
+    compressed_.subtract(x.data(), k * k, pinned_, y.data(), *pool_);
+    if (!air) return;
+    air_.triangleParts(eq.model, x.data(), k * k, k, pool_.get());
+    parts_.resize(x.size());
     pool_->run(int(eq.model.particleCount()), [&](int begin, int end) {
+        std::fill(parts_.begin() + 3 * begin, parts_.begin() + 3 * end, 0.0);
+        air_.addParts(eq.model, begin, end, parts_.data());
         for (Index i = begin; i < end; ++i) {
             if (pinned_[i]) continue;
-            compressed_.subtractAt(i, y.data());
-            if (!air) continue;
-            double parts[3] = {0, 0, 0};
-            air_.addParts(eq.model, i, parts);
             const Vec3 c = airDamping_[i] * Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-            for (int a = 0; a < 3; ++a) y[3 * i + a] -= k * c[a] + parts[a];
+            for (int a = 0; a < 3; ++a) y[3 * i + a] -= k * c[a] + parts_[3 * i + a];
         }
     });
 }

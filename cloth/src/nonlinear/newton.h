@@ -67,7 +67,7 @@ private:
     std::vector<std::uint8_t> pinned_;
     CompressedSprings compressed_;
     Points force_, residual_, trialForce_, trialResidual_;
-    std::vector<double> b_, x_;
+    std::vector<double> b_, x_, parts_;  // parts_: the air's rows of a product
 };
 
 }  // namespace cloth
