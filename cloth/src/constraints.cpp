@@ -98,8 +98,8 @@ int StretchLimit::apply(const Model& model, const std::vector<std::uint8_t>& pin
 int Tethers::apply(const Model& model, const std::vector<Pin>& pins, Scalar maxStretch, Scalar h, State& state,
                    ThreadPool* pool) {
     const Index n = model.particleCount();
-    std::vector<Index> pinned;
-    pinned.reserve(pins.size());
+    std::vector<Index>& pinned = current_;
+    pinned.clear();
     for (const Pin& p : pins)
         if (p.particle >= 0 && p.particle < n) pinned.push_back(p.particle);
     if (pinned != pinned_ || particles_ != n) {

@@ -80,6 +80,7 @@ public:
 
 private:
     std::vector<Index> pinned_;  // the pins' particles the anchors were found for
+    std::vector<Index> current_;  // apply()'s scratch: this call's pins' particles
     Index particles_ = -1;
     std::vector<Index> free_, anchor_;
     std::vector<Scalar> rest_;
