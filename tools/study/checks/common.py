@@ -2,6 +2,7 @@
 that does not hold (Finding, need); a row by the values of its columns (one, ext); a row of the
 front (front, PATHS)."""
 import csv
+import json
 import os
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")  # this file is in tools/study/checks/
@@ -11,6 +12,19 @@ ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", ".."
 DEMO_DEFAULT = "kangcho:iterations=1,precision=float,strain_limit=0.1,strain_passes=4,tether=0.02"
 CASES = ["speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"]
 PATHS = ["drive"] + CASES  # the front's carrier paths
+
+
+def demo_scene():
+    """The demo's scene file (assets/scenes/flag_vehicle.json), parsed."""
+    with open(os.path.join(ROOT, "assets", "scenes", "flag_vehicle.json")) as f:
+        return json.load(f)
+
+
+def pole_shell():
+    """How far from the pole's axis its collisions keep the cloth: the pole's radius (the engine's
+    default of 3 cm unless the scene sets it) and the cloth's thickness."""
+    scene = demo_scene()
+    return scene["vehicle"].get("pole_radius", 0.03) + scene["flag"]["thickness"]
 
 
 def num(v):

@@ -2,10 +2,7 @@
 against its reference (its whole model: springs, air, collisions, tethers and stretch limit), the
 constraints' own effect, and the cheapest configuration close to the true motion (front.csv,
 flag=demo, 33x33)."""
-import json
-import os
-
-from checks.common import PATHS, ROOT, front, misses_on, need, num, stable, teleport_rows
+from checks.common import PATHS, demo_scene, front, misses_on, need, num, pole_shell, stable, teleport_rows
 
 
 def demo_misses(docs, config):
@@ -64,15 +61,10 @@ def c_demo_true_motion_in_real_time(docs):
 
 
 def wrapped_spring_stretch():
-    """A spring of the demo's flag wrapped halfway round its pole: both ends on the pole's collision
-    shell (the pole's radius and the cloth's thickness from the axis), on opposite sides, from the
-    scene file (the pole's radius: the engine's default of 3 cm unless the scene sets it)."""
-    with open(os.path.join(ROOT, "assets", "scenes", "flag_vehicle.json")) as f:
-        scene = json.load(f)
-    flag = scene["flag"]
-    rest = flag["width"] / (flag["resolution"][0] - 1)
-    shell = scene["vehicle"].get("pole_radius", 0.03) + flag["thickness"]
-    return 2 * shell / rest - 1
+    """A horizontal spring of the demo's flag wrapped halfway round its pole: both ends on the
+    pole's collision shell, on opposite sides."""
+    flag = demo_scene()["flag"]
+    return 2 * pole_shell() / (flag["width"] / (flag["resolution"][0] - 1)) - 1
 
 
 def c_demo_peak_92_is_the_pole(docs):

@@ -4,7 +4,9 @@ default_candidates_extreme.csv, cloth_rate_extreme.csv, tethers_extreme.csv)."""
 import json
 import os
 
-from checks.common import CASES, DEMO_DEFAULT, ROOT, ext, need, num, one, pct, stable
+import math
+
+from checks.common import CASES, DEMO_DEFAULT, ROOT, demo_scene, ext, need, num, one, pct, pole_shell, stable
 
 MAIN_K, MAIN_H = "10000", "0.00416667"
 # The stretch limit's keys as the CSVs name them (a scene says stretch_limit, stretch_passes).
@@ -343,6 +345,23 @@ def c_default_stretch_over_bounds(docs):
     return "documented: the demo default's p99 stretch reaches " + ", ".join(out) + " (10 g stop)"
 
 
+def c_pole_through_cloth_at_65(docs):
+    """The 65x65 peaks of 400-500%: a vertical spring (the flag's height over 64) across the pole,
+    both ends on its collision shell: 2 shell / rest - 1 on opposite sides at one height, at most
+    hypot(2 shell, rest) / rest - 1 with the ends a rest length apart along the pole."""
+    rest = demo_scene()["flag"]["height"] / 64
+    opposite = 2 * pole_shell() / rest - 1
+    limit = math.hypot(2 * pole_shell(), rest) / rest - 1
+    peaks = sorted(num(r["peak_stretch"]) for r in docs.rows("extreme.csv")
+                   if r["size"] == "65" and 4 < num(r["peak_stretch"]) <= 5)
+    need(peaks and max(peaks) <= limit + 0.005, f"extreme.csv: 65x65 peaks of 400-500% {peaks} (docs: none over {limit:.1%})")
+    near = [p for p in peaks if p >= opposite - 0.05]
+    need(len(near) >= 12, f"extreme.csv: {len(near)} 65x65 peaks at {opposite:.1%}-{limit:.1%} (docs: 12 or more)")
+    return (f"{len(peaks)} peaks of 400-500% at 65x65, {min(peaks):.1%}-{max(peaks):.1%}, none over {limit:.1%} (a vertical "
+            f"spring across the pole, ends on its shell a rest length apart along it); {len(near)} at {opposite - 0.05:.1%} "
+            f"or more ({opposite:.1%}: opposite sides at one height)")
+
+
 STUDY_FINDINGS = [
     # Part 1: the solve error, error_vs_runtime.csv and nvidia_newton.csv
     ("paper_step_leaves_solve_error", c_paper_step_leaves_solve_error),
@@ -368,4 +387,5 @@ STUDY_FINDINGS = [
     ("tethers_alone_fail", c_tethers_alone_fail),
     ("spin_as_tabled", c_spin_as_tabled),
     ("newton_spin_marked_old", c_newton_spin_marked_old),
+    ("pole_through_cloth_at_65", c_pole_through_cloth_at_65),
 ]
