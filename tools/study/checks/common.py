@@ -14,17 +14,19 @@ CASES = ["speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particl
 PATHS = ["drive"] + CASES  # the front's carrier paths
 
 
-def demo_scene():
-    """The demo's scene file (assets/scenes/flag_vehicle.json), parsed."""
-    with open(os.path.join(ROOT, "assets", "scenes", "flag_vehicle.json")) as f:
+def scene(name):
+    """A scene file of assets/scenes/, parsed."""
+    with open(os.path.join(ROOT, "assets", "scenes", name)) as f:
         return json.load(f)
 
 
-def pole_shell():
-    """How far from the pole's axis its collisions keep the cloth: the pole's radius (the engine's
-    default of 3 cm unless the scene sets it) and the cloth's thickness."""
-    scene = demo_scene()
-    return scene["vehicle"].get("pole_radius", 0.03) + scene["flag"]["thickness"]
+def wrapped_stretch(rest):
+    """The stretch of a spring of rest length `rest` wrapped halfway round the demo's pole: both
+    ends on the pole's collision shell (the pole's radius, the engine's default of 3 cm unless the
+    scene sets it, and the cloth's thickness from its axis), on opposite sides at one height."""
+    demo = scene("flag_vehicle.json")
+    shell = demo["vehicle"].get("pole_radius", 0.03) + demo["flag"]["thickness"]
+    return 2 * shell / rest - 1
 
 
 def num(v):

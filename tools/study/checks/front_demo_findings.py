@@ -2,7 +2,7 @@
 against its reference (its whole model: springs, air, collisions, tethers and stretch limit), the
 constraints' own effect, and the cheapest configuration close to the true motion (front.csv,
 flag=demo, 33x33)."""
-from checks.common import PATHS, demo_scene, front, misses_on, need, num, pole_shell, stable, teleport_rows
+from checks.common import PATHS, front, misses_on, need, num, scene, stable, teleport_rows, wrapped_stretch
 
 
 def demo_misses(docs, config):
@@ -60,15 +60,9 @@ def c_demo_true_motion_in_real_time(docs):
             f"{allowed:.1%} allowed); explicit in 32-128 substeps misses light particles alone")
 
 
-def wrapped_spring_stretch():
-    """A horizontal spring of the demo's flag wrapped halfway round its pole: both ends on the
-    pole's collision shell, on opposite sides."""
-    flag = demo_scene()["flag"]
-    return 2 * pole_shell() / (flag["width"] / (flag["resolution"][0] - 1)) - 1
-
-
 def c_demo_peak_92_is_the_pole(docs):
-    wrapped = wrapped_spring_stretch()
+    flag = scene("flag_vehicle.json")["flag"]
+    wrapped = wrapped_stretch(flag["width"] / (flag["resolution"][0] - 1))  # a horizontal spring
     small = [(name, r) for name in ("front.csv", "teleports_demo.csv") for r in docs.rows(name)
              if r["flag"] == "demo" and r["size"] == "33"
              and (r["config"].startswith("small_steps") or r["config"] == "reference_unpaced")]

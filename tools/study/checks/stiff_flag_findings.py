@@ -1,11 +1,8 @@
 """The findings of docs/stiff_flag.md: the stiff flag against its fine-step reference, every row from
 front.csv (flag=stiff), each judged by the bounds front_checks.py recomputes."""
-import json
-import os
-
 import statistics
 
-from checks.common import PATHS, ROOT, front, misses_on, need, num, stable, teleport_rows
+from checks.common import PATHS, front, misses_on, need, num, scene, stable, teleport_rows
 
 FLUTTER = ["speed_50mps", "gale_40mps"]
 # The implicit configurations whose step is a whole 240 Hz tick or longer.
@@ -16,9 +13,9 @@ XPBD = ["xpbd_960", "xpbd_960_16", "xpbd_1920", "xpbd_chains_1920", "xpbd_3840"]
 
 
 def c_stiff_flag_ships_the_true_motion(docs):
-    scene = json.load(open(os.path.join(ROOT, "assets", "scenes", "flag_vehicle_stiff.json")))
-    need(scene["flag"]["solver"] == {"name": "small_steps", "max_move": 0.01} and scene["timing"]["physics_hz"] == 240,
-         f"flag_vehicle_stiff.json ships {scene['flag']['solver']} at {scene['timing']['physics_hz']} Hz (docs: small_steps paced at 1 cm, 240 Hz)")
+    stiff = scene("flag_vehicle_stiff.json")
+    need(stiff["flag"]["solver"] == {"name": "small_steps", "max_move": 0.01} and stiff["timing"]["physics_hz"] == 240,
+         f"flag_vehicle_stiff.json ships {stiff['flag']['solver']} at {stiff['timing']['physics_hz']} Hz (docs: small_steps paced at 1 cm, 240 Hz)")
     missed = misses_on(docs, "stiff", "shipped")
     need(not missed, f"front.csv: the shipped stiff flag misses {missed} (docs: nothing)")
     traj = [num(front(docs, "stiff", p, "shipped")["traj_error"]) for p in PATHS]
