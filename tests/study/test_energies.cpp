@@ -1,4 +1,4 @@
-// The study's flutter energies (tools/study/extreme_runs.h) against closed forms: a flag moving
+// The study's flutter energies (tools/study/cpp/extreme_runs.h) against closed forms: a flag moving
 // with its carrier has none; one translating at u relative to it has M |u|^2 / 2 in both the
 // whole and the patch energy; one whose columns carry momentum +m u and -m u in turn
 // (grid-scale motion) has sum m^2 |u|^2 / 2 m_i in the whole energy and none at the patches' scale;

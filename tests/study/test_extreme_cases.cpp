@@ -1,4 +1,4 @@
-// The study's extreme cases (tools/study/extreme_cases.h): every case drives the demo's flag, and
+// The study's extreme cases (tools/study/cpp/extreme_cases.h): every case drives the demo's flag, and
 // the guard that says so rejects a case that moves nothing.
 
 #include <gtest/gtest.h>

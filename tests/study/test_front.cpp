@@ -1,4 +1,4 @@
-// The front's judges (tools/study/bounds.h, extreme_runs.h) against computations written here:
+// The front's judges (tools/study/cpp/bounds.h, extreme_runs.h) against computations written here:
 // the bounds at their edges, and the trajectory error against a loop over restarted horizons
 // written out in the test on a small case.
 

@@ -1,4 +1,4 @@
-// The study's fine-step reference (tools/study/extreme_runs.h) converges under halving its step:
+// The study's fine-step reference (tools/study/cpp/extreme_runs.h) converges under halving its step:
 // the stiff flag (k = 1e4 N/m) at 17 per side in the first half second of the spin, run by
 // symplectic Euler at the study's substeps and at twice as many, gives the same p99 stretch and
 // kinetic energy to within 5% and positions to a thousandth of the flag's width (RMS);

@@ -1,5 +1,5 @@
 #pragma once
-// The study's extreme cases for the demo's flag (part 2 of tools/study/cloth_study.cpp): each a
+// The study's extreme cases for the demo's flag (part 2 of tools/study/cpp/cloth_study.cpp): each a
 // carrier motion of the pole (pose and velocity over time), a mass scale and a wind; and the
 // guard that every case drives the flag: a case whose carrier moves no pin and that has no wind
 // would pass with any solver, because nothing happens to the flag.
