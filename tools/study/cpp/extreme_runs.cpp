@@ -20,7 +20,7 @@ double mean(const std::vector<double>& v, std::size_t begin, std::size_t end) {
 }
 
 // The figures of one tick into the run's maxima.
-void record(ExtremeRun& r, const cloth::Diagnostics& d, const engine::Flag& flag, const engine::RigidFrame& c,
+void record(ExtremeRun& r, const cloth::Diagnostics& d, const cloth::Cloth& flag, const engine::RigidFrame& c,
             const Extreme& x, double t) {
     r.maxStretch = std::max(r.maxStretch, d.maxStretch);
     if (!(x.jumpAt >= 0 && t >= x.jumpAt && t < x.jumpAt + 0.25)) r.peakStretch = std::max(r.peakStretch, d.maxStretch);
@@ -57,7 +57,7 @@ double patchEnergy(const cloth::Model& m, const cloth::State& s, const engine::R
 }
 
 ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mount, const Extreme& x, bool keepStates) {
-    engine::Flag flag(s, mount, x.carrier(0));
+    cloth::Cloth flag = engine::makeFlagCloth(s, mount, x.carrier(0));
     const double h = 1.0 / s.physicsHz;
     ExtremeRun r;
     std::vector<double> tickMs, energy;
@@ -67,7 +67,7 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
     for (int k = 1; k <= ticks; ++k) {
         const engine::RigidFrame c = x.carrier(k * h);
         const auto t0 = Clock::now();
-        flag.tick(h, c, {flag.poleCollider(c)});
+        flag.step(h, c, {cloth::poleCollider(mount, c)});
         tickMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
         const cloth::Diagnostics d = cloth::measure(flag.model(), {}, flag.state(), true);
         record(r, d, flag, c, x, k * h);
@@ -94,8 +94,8 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
     for (std::size_t w = 0; w < energy.size(); w += perWindow)
         r.energyWindows.push_back(mean(energy, w, std::min(energy.size(), w + perWindow)));
     const long long steps = std::max(1LL, flag.steps());
-    r.iterationsMean = double(flag.solverCounts().iterations) / double(steps);
-    r.iterationsMax = flag.solverCounts().maxIterations;
+    r.iterationsMean = double(flag.counts().iterations) / double(steps);
+    r.iterationsMax = flag.counts().maxIterations;
     return r;
 }
 
@@ -124,7 +124,7 @@ double horizonError(const engine::SceneConfig& s, const engine::PoleMount& mount
     const int every = int(std::lround(h / referenceH));  // reference ticks per tick
     if (every < 1 || std::abs(every * referenceH - h) > 1e-9 * h) return NAN;
     const int horizon = std::max(1, int(std::lround(kHorizon / h)));
-    engine::Flag flag(s, mount, x.carrier(0));
+    cloth::Cloth flag = engine::makeFlagCloth(s, mount, x.carrier(0));
     double sum = 0;
     long count = 0;
     for (std::size_t start = 0; start + std::size_t(horizon * every) < reference.size(); start += std::size_t(horizon * every)) {
@@ -132,7 +132,7 @@ double horizonError(const engine::SceneConfig& s, const engine::PoleMount& mount
         for (int k = 1; k <= horizon; ++k) {
             const std::size_t at = start + std::size_t(k * every);
             const engine::RigidFrame c = x.carrier(double(at) * referenceH);
-            flag.tick(h, c, {flag.poleCollider(c)});
+            flag.step(h, c, {cloth::poleCollider(mount, c)});
             sum += (flag.state().x - reference[at].x).colwise().squaredNorm().mean();
             ++count;
         }

@@ -66,7 +66,7 @@ nlohmann::json airCheck(const cloth::Model& m, const cloth::State& state, const 
     return {{"positions", pointsJson(state.x)}, {"velocities", pointsJson(state.v)}, {"force", pointsJson(f)}};
 }
 
-// One extreme case at one size, for the NVIDIA Newton harness: the demo's flag as engine::Flag builds it
+// One extreme case at one size, for the NVIDIA Newton harness: the demo's flag as the library builds it (engine::makeFlagCloth)
 // (start positions and velocities, masses, springs, triangles, pins), every pin's target and the
 // carrier's velocity at the end of every 240 Hz tick, and the air and drag the flag feels (the
 // harness applies them as explicit external forces; it has no pole collision).
@@ -74,7 +74,7 @@ void exportExtremeForNvidiaNewton(const std::string& dir, const engine::SceneCon
     engine::SceneConfig s = extremeScene(demo, x, size);
     s.flag.solver = configOf("kangcho:iterations=1");  // only the pins' path is read from its ticks
     const engine::PoleMount mount = extremeMount(demo);
-    engine::Flag flag(s, mount, x.carrier(0));
+    cloth::Cloth flag = engine::makeFlagCloth(s, mount, x.carrier(0));
     const cloth::Model& m = flag.model();
     const double h = 1.0 / s.physicsHz;
     nlohmann::json j = harnessInput(x.name, size, s.flag.stiffness.structural, h, m, flag.state().x, flag.pins());
@@ -92,7 +92,7 @@ void exportExtremeForNvidiaNewton(const std::string& dir, const engine::SceneCon
     const int checkAt = int(x.duration / h / 2);
     for (int k = 1; k * h <= x.duration + 1e-9; ++k, ++steps) {
         const engine::RigidFrame c = x.carrier(k * h);
-        flag.tick(h, c, {});
+        flag.step(h, c, {});
         j["pin_positions"].push_back(pinTargets(flag.pins()));
         j["carrier_velocity"].push_back({c.linearVelocity.x(), c.linearVelocity.y(), c.linearVelocity.z()});
         if (k == checkAt) j["air_check"] = airCheck(m, flag.state(), flag.pins(), s);

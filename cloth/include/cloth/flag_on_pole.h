@@ -1,0 +1,38 @@
+#pragma once
+// A flag on a pole: a grid cloth whose first column is attached along a pole standing on a
+// carrier (a vehicle, or the world). Everything here is in the carrier's frame, the pole along
+// its +y axis; the flag trails from the pole along `trailing`.
+
+#include "cloth/cloth.h"
+
+namespace cloth {
+
+struct Pole {
+    Vec3 base = Vec3::Zero();   // the foot of its axis
+    Scalar height = 3.0;        // m
+    Scalar radius = 0.03;       // m
+    Vec3 trailing = -Vec3::UnitZ();  // unit, perpendicular to +y: where the flag streams at rest
+};
+
+struct FlagDesc {
+    int nx = 33, ny = 33;  // particles across (from the pole) and down
+    Scalar width = 1.5, height = 1.0;
+    Scalar mass = 0.25;  // kg
+    Stiffness stiffness = {1e3, 1e2, 5};
+};
+
+// The flag's grid: column 0 on the pole's axis from its top down, the flag trailing behind.
+// Throws std::invalid_argument naming the field for a grid that cannot be built.
+Model flagModel(const FlagDesc& flag, const Pole& pole);
+
+// The flag as a Cloth is made: its model, column 0 attached where it rests on the pole's axis,
+// its start shape (the rest shape with a millimetre ripple across its plane: no real flag is
+// perfectly flat, and a flat sheet pinned along an edge is an unstable equilibrium it would never
+// leave), and the particles the colliders leave alone: those whose rest position lies inside
+// the pole's collision capsule (radius + thickness), a sleeve sewn round it.
+ClothDesc flagOnPole(const FlagDesc& flag, const Pole& pole, Scalar thickness);
+
+// The pole as a collider: its capsule in world space, for the carrier's pose.
+Collider poleCollider(const Pole& pole, const RigidFrame& carrier);
+
+}  // namespace cloth

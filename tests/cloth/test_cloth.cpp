@@ -1,0 +1,126 @@
+// cloth::Cloth, the library's own step: its stages in their order (air, solve, collisions),
+// checked against the same library calls made by hand here, and its settings refused with the
+// name of what is wrong.
+
+#include <gtest/gtest.h>
+
+#include "cloth/cloth.h"
+#include "cloth/flag_on_pole.h"
+
+using namespace cloth;
+
+namespace {
+
+ClothSettings flagSettings(const std::string& solver) {
+    ClothSettings s;
+    std::string error;
+    EXPECT_TRUE(parseSolverConfig(solver, s.solver, &error)) << error;
+    s.air = true;
+    s.airParams.wind = Vec3(4, 0, 1);
+    s.collisions = true;
+    return s;
+}
+
+// A carrier moving and turning, so that the air, the pins and the pole all matter.
+RigidFrame carrierAt(double t) {
+    RigidFrame c;
+    c.position = Vec3(0, 0, 3 * t * t);
+    c.linearVelocity = Vec3(0, 0, 6 * t);
+    c.rotation = Eigen::AngleAxisd(0.8 * t, Vec3::UnitY());
+    c.angularVelocity = Vec3(0, 0.8, 0);
+    return c;
+}
+
+// The stages made by hand: the pins on the carrier, the air with its implicit blocks, the
+// solver's step, then the colliders, each exactly once per tick.
+void stepByHand(const ClothDesc& d, const ClothSettings& s, Solver& solver, State& state, double h,
+                const RigidFrame& c, const std::vector<Collider>& colliders) {
+    StepInput input;
+    input.h = h;
+    for (const Attachment& a : d.attachments) input.pins.push_back({a.particle, c.point(a.local), c.velocityAt(c.point(a.local))});
+    Points air = Points::Zero(3, d.model.particleCount());
+    std::vector<Mat3> jacobian, damping;
+    addAirForces(d.model, state, s.airParams, air, &jacobian);
+    airDamping(jacobian, damping);
+    input.externalForce = &air;
+    input.damping = &damping;
+    ASSERT_EQ(solver.step(d.model, s.environment, state, input).status, StepStatus::Ok);
+    std::vector<std::uint8_t> skip = d.collisionSkip;
+    for (const Attachment& a : d.attachments) skip[std::size_t(a.particle)] = 1;
+    resolveCollisions(colliders, s.thickness, &skip, state);
+}
+
+// The pole, and a floor the flag's lower rows reach (the flag hangs from 3 m to 2 m).
+std::vector<Collider> collidersAt(const Pole& pole, const RigidFrame& c) {
+    Collider floor;
+    floor.center = Vec3(0, 2.3, 0);
+    return {poleCollider(pole, c), floor};
+}
+
+}  // namespace
+
+TEST(Cloth, StepsItsStagesInOrderAsTheLibraryCallsMadeByHand) {
+    FlagDesc f;
+    f.nx = 13, f.ny = 9;
+    Pole pole;
+    const ClothDesc desc = flagOnPole(f, pole, 0.015);
+    const ClothSettings s = flagSettings("kangcho");
+    Cloth cloth(desc, s, carrierAt(0));
+    std::unique_ptr<Solver> solver = makeSolver(s.solver);
+    State byHand = cloth.state();
+    const double h = 1.0 / 240;
+    for (int k = 1; k <= 240; ++k) {
+        const RigidFrame c = carrierAt(k * h);
+        const std::vector<Collider> colliders = collidersAt(pole, c);
+        cloth.step(h, c, colliders);
+        stepByHand(desc, s, *solver, byHand, h, c, colliders);
+    }
+    EXPECT_EQ(cloth.failures(), 0);
+    EXPECT_EQ(cloth.steps(), 240);
+    // Bit for bit: the same calls in the same order.
+    EXPECT_EQ((cloth.state().x - byHand.x).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ((cloth.state().v - byHand.v).cwiseAbs().maxCoeff(), 0.0);
+    // And the colliders mattered: without them the same run ends elsewhere.
+    ClothSettings noCollisions = s;
+    noCollisions.collisions = false;
+    Cloth free(desc, noCollisions, carrierAt(0));
+    for (int k = 1; k <= 240; ++k) free.step(h, carrierAt(k * h), collidersAt(pole, carrierAt(k * h)));
+    EXPECT_GT((free.state().x - cloth.state().x).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+TEST(Cloth, AttachmentsLandOnTheCarrierAndTheProfileCountsEveryStage) {
+    FlagDesc f;
+    f.nx = 9, f.ny = 7;
+    Pole pole;
+    const ClothDesc desc = flagOnPole(f, pole, 0.015);
+    ClothSettings s = flagSettings("kangcho");
+    s.substeps = 3;
+    Cloth cloth(desc, s, carrierAt(0));
+    const RigidFrame c = carrierAt(0.1);
+    EXPECT_TRUE(cloth.step(1.0 / 60, c, {poleCollider(pole, c)}));
+    EXPECT_EQ(cloth.steps(), 3);
+    for (const Attachment& a : desc.attachments)
+        EXPECT_LT((cloth.state().x.col(a.particle) - c.point(a.local)).norm(), 1e-12);
+    EXPECT_GT(cloth.profile().air, 0.0);
+    EXPECT_GT(cloth.profile().collision, 0.0);
+}
+
+TEST(Cloth, RefusesBadSettingsNamingThemAndKeepsItsOwn) {
+    FlagDesc f;
+    f.nx = 5, f.ny = 5;
+    const ClothDesc desc = flagOnPole(f, Pole{}, 0.015);
+    ClothSettings bad = flagSettings("kangcho");
+    bad.constraints.stretchLimit = -1;
+    try {
+        Cloth cloth(desc, bad, RigidFrame{});
+        FAIL() << "a negative stretch limit was taken";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("constraints:"), std::string::npos) << e.what();
+    }
+    Cloth cloth(desc, flagSettings("multigrid"), RigidFrame{});
+    EXPECT_THROW(cloth.reconfigure(bad), std::invalid_argument);
+    EXPECT_EQ(cloth.settings().solver.name, "multigrid");
+    ClothDesc none = desc;
+    none.attachments.clear();
+    EXPECT_THROW(Cloth(none, flagSettings("kangcho"), RigidFrame{}), std::invalid_argument);
+}
