@@ -53,8 +53,9 @@ def main():
              f"One run of `tools/run bench{' --quick' if quick else ''}` at commit {commit(root)}, on "
              f"{datetime.date.today().isoformat()}: {machine()}; Release build, GCC, no `-march` (the "
              "kernels carry their own AVX2 clone). The machine is shared and noisy: compare rows of one "
-             "run (the ratios below), not runs. Regenerate: `tools/run bench` (or `--quick`), then "
-             "`tools/bench_report.py out/bench > docs/performance.md`.", ""]
+             "run (the ratios below), not runs. Regenerate: `tools/run bench` (or `--quick`), which writes "
+             "this report to `out/bench/performance.md`; `docs/performance.md` is the reference that "
+             "cites such runs.", ""]
     lines += section(os.path.join(out, "cloth_bench.md"), "The cloth step",
                      "Google Benchmark, medians of the repetitions. `stepFlag/NAME/SIDE/THREADS`: the hanging "
                      "flag (h = 1/240 s, k = 1e4 N/m) on a still pole, or (`swung_`) on a pole moving on a 2 Hz "
