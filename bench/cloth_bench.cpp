@@ -20,7 +20,7 @@
 #include "cloth/air.h"
 #include "cloth/diagnostics.h"
 #include "cloth/presets.h"
-#include "cloth/multigrid_settings.h"
+#include "cloth/solvers/multigrid_solver.h"
 #include "cloth/solver.h"
 #include "cloth/constraints.h"
 #ifdef FLAGSIM_HAS_BULLET_PEER

@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "cloth/paper_step.h"
 #include "cloth/air.h"
 #include "cloth/constraints.h"
 #include "cloth/presets.h"

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "cloth/forces.h"
+#include "cloth/paper_step.h"
+#include "cloth/solvers/exact.h"
 
 namespace cloth {
 

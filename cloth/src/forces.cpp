@@ -1,6 +1,5 @@
 #include "cloth/forces.h"
 
-#include "cloth/system.h"
 #include "kernels.h"
 
 namespace cloth {

@@ -1,5 +1,5 @@
 #pragma once
-// The kernels every path of the implicit step shares (the paper's step in kangcho/as_written.cpp and
+// The kernels every path of the implicit step shares (the paper's step in kangcho/paper_step.cpp and
 // forces.cpp, the gather and stencil layouts of kangcho, multigrid): the spring terms (eqs.
 // 15-17), symmetric 3x3 blocks (product, inverse) and the pin velocity change. Plain inline
 // functions.

@@ -12,6 +12,7 @@
 #include "physics_support.h"
 #include <Eigen/Cholesky>
 
+#include "cloth/paper_step.h"
 #include "cloth/presets.h"
 
 using namespace cloth;

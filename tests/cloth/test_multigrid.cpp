@@ -9,12 +9,13 @@
 #include <cstring>
 #include <random>
 
+#include "cloth/paper_step.h"
 #include "cloth/air.h"
 #include "cloth/presets.h"
-#include "cloth/multigrid_settings.h"
+#include "cloth/solvers/multigrid_solver.h"
 #include "cloth/solver.h"
 #include "multigrid/multigrid.h"
-#include "registry/solver_registry.h"
+#include "cloth/solver_kind.h"
 #include "solver_spec.h"
 
 using namespace cloth;

@@ -9,8 +9,8 @@
 
 #include "cloth/presets.h"
 #include "cloth/solver.h"
-#include "registry/constraint_keys.h"
-#include "registry/solver_registry.h"
+#include "cloth/constraint_settings.h"
+#include "cloth/solver_kind.h"
 
 using namespace cloth;
 

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <random>
 
+#include "cloth/solvers/exact.h"
+#include "cloth/paper_step.h"
 #include "cloth/diagnostics.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"

@@ -32,7 +32,7 @@ public:
             scratch_.v.col(i) = (scratch_.v.col(i) + input.h / model.masses()[i] * force_.col(i)) * keep;
         scratch_.x = state.x + input.h * scratch_.v;
         dv_ = scratch_.v - state.v;
-        return commit(model, constraints_, input, *pool_, state, scratch_, StepResult{});
+        return commitStep(model, constraints_, input, *pool_, state, scratch_, StepResult{});
     }
 
 private:

@@ -1,7 +1,7 @@
 #pragma once
 // A test's own solver kind (damped_explicit_kind.cpp), registered by the tests that use it.
 
-#include "registry/solver_registry.h"
+#include "cloth/solver_kind.h"
 
 namespace cloth {
 

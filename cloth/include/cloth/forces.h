@@ -1,12 +1,17 @@
 #pragma once
-// Spring force and Jacobian kernels (Kang & Cho eqs. 15-17), and the energies they derive from.
-// Pure functions of their arguments; the step loops over springs and calls them.
+// Spring force and Jacobian kernels (Kang & Cho eqs. 15-17), and the energies they derive from:
+// pure functions of their arguments; and the forces on the whole cloth (gravity, drag, springs).
 
 #include <cmath>
 
 #include "cloth/model.h"
 
 namespace cloth {
+
+struct Environment {
+    Vec3 gravity = Vec3(0, -9.81, 0);  // m/s^2
+    Scalar drag = 0;                   // linear drag rate, 1/s: f_i = -drag m_i v_i (implicit)
+};
 
 // Below this length a spring has no defined direction: force and Jacobian are zero.
 constexpr Scalar kMinSpringLength = 1e-12;
@@ -25,5 +30,9 @@ inline Scalar springEnergy(const Vec3& xi, const Vec3& xj, Scalar k, Scalar rest
 // Eq. 17 (compressionRule): under compression (L < l0) the Jacobian uses l0 := L, giving
 // J_ij = k u u^T, which is positive semi-definite; the force keeps the true l0.
 Mat3 springJacobian(const Vec3& xi, const Vec3& xj, Scalar k, Scalar rest, bool compressionRule);
+
+// Gravity, drag, springs (eq. 15) and the external force, summed into f (3 x n).
+void computeForces(const Model& model, const Environment& env, const State& state,
+                   const Points* externalForce, Points& f);
 
 }  // namespace cloth

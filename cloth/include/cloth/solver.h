@@ -1,22 +1,14 @@
 #pragma once
-// Solvers behind one small interface, chosen by name with parameters: "name[:key=value,...]".
-// Every solver kind has its own file with its settings struct, a table of its keys (name, type,
-// range, default, one line of doc) and its factory, registered in the solver registry
-// (cloth/src/registry/solver_registry.h). The string parser, the scene parser of the engine,
-// validation, describe(), the --help text, the README's solver table and the demo's panel all
-// come from that registry: `solverHelp()` prints it. The kinds:
-//   kangcho    the paper: Jacobi iterations of the linearized backward Euler system
-//   exact      the same system solved to a tolerance (sparse Cholesky, CG or multigrid)
-//   cg         exact with method=cg
-//   multigrid  V-cycles on the same system, as CG's preconditioner or alone
-//   chebyshev  Jacobi with Chebyshev semi-iterative acceleration (Wang 2015)
-//   desbrun    Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once
-//   explicit   symplectic Euler with substeps
-//   newton     the implicit step converged (backward Euler or BDF2), the air fully coupled
-//   xpbd       the springs as compliant constraints (XPBD, Macklin et al. 2016), projected
-// Every implicit kind takes compression= (eq. 17). The corrections after a step (tethers, the
-// stretch limit) are the cloth's constraints, not a solver's keys: Solver::setConstraints
-// (constraints.h).
+// Solvers behind one small interface, chosen by kind with settings. Every kind has its file
+// (src/solvers/KIND.cpp: the solver, its key table, its factory) and its public header
+// (cloth/solvers/KIND.h: its settings struct with its defaults), and registers in the solver
+// registry (cloth/solver_kind.h). A config is made from a settings struct
+// (`SolverConfig(MultigridSettings{.cycles = 2})`) or from text, "name[:key=value,...]", or a
+// scene's JSON through the same keys. The parsers, validation, describe(), the --help text, the
+// README's solver table and the demo's panel are loops over the registry: `solverKindNames()`
+// lists the kinds, `solverHelp()` prints every key. Every implicit kind takes compression=
+// (eq. 17). The corrections after a step (tethers, the stretch limit) are the cloth's
+// constraints, not a solver's keys: Solver::setConstraints (constraints.h).
 // A step never throws and never hands back a non-finite state: on failure the state is left as
 // it was before the step and the status says why.
 
@@ -34,9 +26,14 @@ namespace cloth {
 
 struct SolverConfig {
     SolverConfig();  // the paper's step: kangcho at its defaults
+    // A kind's settings struct (cloth/solvers/KIND.h), which names its kind.
+    template <class S>
+        requires requires { S::kKind; }
+    SolverConfig(S settings, bool compression = true)
+        : name(S::kKind), compressionRule(compression), settings(std::move(settings)) {}
     std::string name = "kangcho";
     bool compressionRule = true;  // implicit kinds: eq. 17 in the Jacobian
-    // The settings struct of the config's kind (each kind declares its own, in its file).
+    // The settings struct of the config's kind.
     std::any settings;
     // The settings of this config's kind (std::bad_any_cast for another kind's).
     template <class S>
@@ -56,6 +53,9 @@ bool defaultSolverConfig(std::string_view name, SolverConfig& out, std::string* 
 // Sets one key from its text ("2", "1e-3", "on", "float"), with the same rules as the parser;
 // on failure `config` is unchanged and *error names the key, the value and the allowed range.
 bool setSolverParameter(SolverConfig& config, std::string_view key, std::string_view value, std::string* error);
+// The same from a number (a scene's JSON number): an integer key takes whole numbers only; a
+// choice key takes no number.
+bool setSolverParameter(SolverConfig& config, std::string_view key, double value, std::string* error);
 // Checks a config's ranges; returns an empty string when valid, else what is wrong.
 std::string validate(const SolverConfig& config);
 // The solver table as data for a user interface (the demo's panel): the kinds, and each key of a
@@ -146,19 +146,5 @@ std::unique_ptr<Solver> createSolver(const SolverConfig& config) {
 
 // Returns null and sets *error for an invalid config.
 std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* error = nullptr);
-
-// The exact solution of the system: sparse Cholesky with iterative refinement. Returns false when
-// the factorization fails or the relative residual stays over `tolerance`.
-bool solveExact(const Model& model, const LinearSystem& sys, Points& dv, Scalar* residual = nullptr,
-                Scalar tolerance = 1e-10);
-
-// The paper's step (kangcho/as_written.cpp, kangcho's impl=reference): builds the system at `state`,
-// then dv(0) and `iterations` Jacobi sweeps into dv.
-void paperStep(const StepProblem& problem, int iterations, LinearSystem& sys, Points& dv);
-
-// One Jacobi sweep: dvNext_i = W_ii^-1 (b_i + h^2 sum_j J_ij dv_j); pinned stay prescribed.
-void jacobiSweep(const Model& model, const LinearSystem& sys, const Points& dv, Points& dvNext);
-// dv(0)_i = W_ii^-1 b_i (eq. 11, k = 0); pinned get their prescribed dv.
-void jacobiStart(const LinearSystem& sys, Points& dv);
 
 }  // namespace cloth

@@ -10,17 +10,13 @@
 #include <cstdint>
 #include <vector>
 
+#include "cloth/forces.h"
 #include "cloth/model.h"
 
 namespace cloth {
 
 struct AirParams;  // air.h
 struct Collider;   // collision.h
-
-struct Environment {
-    Vec3 gravity = Vec3(0, -9.81, 0);  // m/s^2
-    Scalar drag = 0;                   // linear drag rate, 1/s: f_i = -drag m_i v_i (implicit)
-};
 
 // A particle pinned to a target the caller moves: at the end of the step the particle sits
 // exactly at x with velocity v.
@@ -63,10 +59,6 @@ struct StepProblem {
     bool compressionRule = true;
 };
 
-// Gravity, drag, springs (eq. 15) and the external force, summed into f (3 x n).
-void computeForces(const Model& model, const Environment& env, const State& state,
-                   const Points* externalForce, Points& f);
-
 struct LinearSystem {
     Scalar h = 0;
     std::vector<Mat3> springJ;   // J_ij per spring (eqs. 16, 17)
@@ -77,9 +69,6 @@ struct LinearSystem {
     std::vector<std::uint8_t> pinned;
     Points pinDv;                // prescribed dv of pinned particles, zero elsewhere
 };
-
-// Builds the system at `state`. Pins with out-of-range particle indices are ignored.
-void buildSystem(const StepProblem& problem, LinearSystem& sys);
 
 // y_i = h^2 sum_{j free} J_ij x_j for free i; zero for pinned i. (The off-diagonal part of -W.)
 void applyOffDiagonal(const Model& model, const LinearSystem& sys, const Points& x, Points& y);

@@ -1,4 +1,4 @@
-#include "registry/key_table.h"
+#include "cloth/key_table.h"
 
 #include <charconv>
 #include <cmath>

@@ -1,16 +1,14 @@
-#include "registry/solver_registry.h"
+#include "cloth/solvers/chebyshev.h"
+#include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 
+#include "cloth/paper_step.h"
 #include "cloth/diagnostics.h"
 
 namespace cloth {
 
 namespace {
 
-struct ChebyshevSettings {
-    int iterations = 1;
-    double rho = 0;
-};
 
 // Jacobi with Chebyshev semi-iterative acceleration (H. Wang, "A Chebyshev Semi-Iterative
 // Approach for Accelerating Projective and Position-based Dynamics", SIGGRAPH Asia 2015):

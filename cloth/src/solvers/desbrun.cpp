@@ -1,7 +1,8 @@
 #include <Eigen/SparseCholesky>
 
 #include "kernels.h"
-#include "registry/solver_registry.h"
+#include "cloth/solvers/desbrun.h"
+#include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 
 #include "cloth/diagnostics.h"
@@ -54,7 +55,7 @@ public:
         t0 = Clock::now();
         scratch_.v = state.v + dv_;
         scratch_.x = state.x + h * scratch_.v;
-        StepResult r = commit(model, constraints_, input, *pool_, state, scratch_, StepResult{});
+        StepResult r = commitStep(model, constraints_, input, *pool_, state, scratch_, StepResult{});
         profile_.integrateMs = msSince(t0);
         return r;
     }
@@ -93,7 +94,6 @@ private:
 }  // namespace
 
 FLAGSIM_SOLVER_KIND(desbrun) {
-    struct DesbrunSettings {};
     return {"desbrun", "Desbrun, Schroder & Barr 1999: constant isotropic Jacobian, factored once",
             defaultsTo<DesbrunSettings>, withCommon({}, false), {}, createSolver<DesbrunSolver>};
 }

@@ -7,8 +7,9 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
-#include "registry/solver_registry.h"
-#include "solvers/exact_settings.h"
+#include "cloth/paper_step.h"
+#include "cloth/solver_kind.h"
+#include "cloth/solvers/exact.h"
 #include "solvers/step_common.h"
 
 namespace cloth {

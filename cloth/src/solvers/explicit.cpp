@@ -1,4 +1,5 @@
-#include "registry/solver_registry.h"
+#include "cloth/solvers/explicit.h"
+#include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 
 #include "cloth/diagnostics.h"
@@ -7,9 +8,6 @@ namespace cloth {
 
 namespace {
 
-struct ExplicitSettings {
-    int substeps = 1;
-};
 
 // Symplectic Euler with substeps: v += hs f / m, x += hs v. Pinned particles move straight to
 // their targets.
@@ -46,7 +44,7 @@ public:
         }
         auto t0 = Clock::now();
         dv_ = scratch_.v - state.v;
-        StepResult result = commit(model, constraints_, input, *pool_, state, scratch_, StepResult{});
+        StepResult result = commitStep(model, constraints_, input, *pool_, state, scratch_, StepResult{});
         result.iterations = substeps;
         profile_.integrateMs = msSince(t0);
         return result;

@@ -1,10 +1,12 @@
 // kangcho: the paper's step. dv(0) = W_ii^-1 b_i, then `iterations` Jacobi sweeps (eq. 11); one
 // sweep is eq. 14. The fast paths (kangcho/stencil.h for grids, kangcho/gather.h for any mesh)
 // compute the same iterates without assembling the system; the reference path is the paper's
-// step written equation by equation (kangcho/as_written.cpp). The tests compare all three.
+// step written equation by equation (kangcho/paper_step.cpp). The tests compare all three.
 
 #include "kangcho/gather.h"
-#include "registry/solver_registry.h"
+#include "cloth/paper_step.h"
+#include "cloth/solvers/kangcho.h"
+#include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 #include "kangcho/stencil.h"
 
@@ -13,15 +15,6 @@ namespace cloth {
 namespace {
 
 // The kind's settings; each field's key, with its doc, is in the kind's table below.
-struct KangChoSettings {
-    int iterations = 1;
-    // fast: the stencil layout when the springs form a few constant index offsets (grids), else
-    // the gather; gather: always the gather; reference: the paper's step as written.
-    enum class Impl { Fast, Gather, Reference };
-    Impl impl = Impl::Fast;
-    int threads = 1;
-    bool singlePrecision = false;
-};
 
 // The stencil layout when the model's springs form a few constant offsets, else the gather.
 template <class T>
@@ -33,10 +26,10 @@ std::unique_ptr<KangChoLayout> layoutFor(ThreadPool& pool, std::vector<int> offs
 class KangChoSolver final : public ImplicitSolver {
     bool computeDv(const StepProblem& problem, StepResult& result) override {
         const Model& model = problem.model;
-        const KangChoSettings& s = settings<KangChoSettings>();
+        const KangchoSettings& s = settings<KangchoSettings>();
         const auto t0 = Clock::now();
         result.iterations = s.iterations;
-        if (s.impl == KangChoSettings::Impl::Reference) {
+        if (s.impl == KangchoSettings::Impl::Reference) {
             paperStep(problem, s.iterations, sys_, dv_);
             profile_.forcesMs = 0;
             profile_.solveMs = msSince(t0);
@@ -44,7 +37,7 @@ class KangChoSolver final : public ImplicitSolver {
         }
         if (model.id() != modelId_) {  // choose the layout once per model
             modelId_ = model.id();
-            std::vector<int> offsets = s.impl == KangChoSettings::Impl::Fast ? springFamilies(model) : std::vector<int>();
+            std::vector<int> offsets = s.impl == KangchoSettings::Impl::Fast ? springFamilies(model) : std::vector<int>();
             layout_ = s.singlePrecision ? layoutFor<float>(*pool_, std::move(offsets))
                                         : layoutFor<double>(*pool_, std::move(offsets));
         }
@@ -61,7 +54,7 @@ private:
 }  // namespace
 
 FLAGSIM_SOLVER_KIND(kangcho) {
-    using K = KangChoSettings;
+    using K = KangchoSettings;
     using key = SolverKeys;
     return {"kangcho", "the paper: dv(0) and Jacobi sweeps of the linearized backward Euler system (eqs. 11, 14)",
             defaultsTo<K>,

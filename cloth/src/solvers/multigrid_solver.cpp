@@ -7,8 +7,8 @@
 #include <typeinfo>
 
 #include "multigrid/multigrid.h"
-#include "registry/solver_registry.h"
-#include "solvers/exact_settings.h"
+#include "cloth/solver_kind.h"
+#include "cloth/solvers/exact.h"
 #include "solvers/step_common.h"
 
 namespace cloth {

@@ -12,7 +12,8 @@
 // StepInput::damping, linear in v about v_n.
 
 #include "nonlinear/newton.h"
-#include "registry/solver_registry.h"
+#include "cloth/solvers/newton.h"
+#include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 
 #include "cloth/diagnostics.h"
@@ -22,16 +23,6 @@ namespace cloth {
 namespace {
 
 // The kind's settings; each field's key, with its doc, is in the kind's table at the end.
-struct NewtonSettings {
-    enum class Integrator { BackwardEuler, BDF2, Midpoint };
-    Integrator integrator = Integrator::BackwardEuler;
-    double theta = 0.5;
-    int maxIterations = 8;
-    double tolerance = 1e-3;
-    double linearTolerance = 1e-2;
-    bool coupledAir = true;
-    int threads = 1;
-};
 
 class NewtonSolver final : public Solver {
 public:
@@ -76,7 +67,7 @@ public:
         t0 = Clock::now();
         dv_ = iterate.v - state.v;
         State start = state;
-        result = commit(model, constraints_, input, *pool_, state, iterate, result);
+        result = commitStep(model, constraints_, input, *pool_, state, iterate, result);
         if (result.status == StepStatus::Ok) {
             previous_ = std::move(start);
             previousH_ = input.h;

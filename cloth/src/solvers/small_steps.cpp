@@ -17,7 +17,8 @@
 #include "cloth/air.h"
 #include "cloth/collision.h"
 #include "cloth/diagnostics.h"
-#include "registry/solver_registry.h"
+#include "cloth/solvers/small_steps.h"
+#include "cloth/solver_kind.h"
 #include "small_steps/collisions.h"
 #include "small_steps/kernels.h"
 #include "small_steps/spin_barrier.h"
@@ -28,12 +29,6 @@ namespace cloth {
 
 namespace {
 
-struct SmallStepsSettings {
-    int substeps = 0;
-    double fraction = 1.0;
-    double maxMove = 0;  // m; 0 = the substeps from the stability bound alone
-    int threads = 1;
-};
 
 // The pinned particles' targets per substep, and the constant part of each substep's forces.
 struct StepPlan {
@@ -67,7 +62,7 @@ public:
         t0 = Clock::now();
         store();
         // The constraints ran after every substep: none are left for the step's end.
-        StepResult result = commit(model, constraints_.any() ? noConstraints_ : constraints_, input, *pool_, state,
+        StepResult result = commitStep(model, constraints_.any() ? noConstraints_ : constraints_, input, *pool_, state,
                                    scratch_, StepResult{});
         result.iterations = plan_.substeps;
         profile_.integrateMs = msSince(t0);

@@ -1,10 +1,11 @@
 #pragma once
-// What every solver's step shares: timing, the commit of a finished step (pins, the cloth's
-// constraints, finiteness), and the shape of an implicit step (build, solve for dv, v += dv, x += h v).
+// What every solver's step shares: timing, the commit of a finished step (step_commit.h), and the
+// shape of an implicit step (build, solve for dv, v += dv, x += h v).
 
 #include <chrono>
 
 #include "cloth/solver.h"
+#include "cloth/step_commit.h"
 
 namespace cloth {
 
@@ -12,12 +13,6 @@ using Clock = std::chrono::steady_clock;
 inline double msSince(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
-
-// Writes the step's outcome `scratch` into `state`, or leaves `state` untouched when anything is
-// non-finite. Pinned particles land exactly on their targets with their target velocity; then
-// the cloth's constraints: tethers, then the stretch limit (pinned particles stay put).
-StepResult commit(const Model& model, ConstraintSet& constraints, const StepInput& input, ThreadPool& pool,
-                  State& state, State& scratch, StepResult result);
 
 // Backward Euler step shape shared by every implicit solver: the system, dv, then v += dv,
 // x += h v. Subclasses supply dv.

@@ -10,7 +10,8 @@
 // and columns of structural springs are each projected at once first (xpbd_chains.h). Then
 // v = (x - x_n) / h. The passes run in a fixed order on one thread: the same bits for any caller.
 
-#include "registry/solver_registry.h"
+#include "cloth/solvers/xpbd.h"
+#include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 #include "solvers/xpbd_chains.h"
 
@@ -21,10 +22,6 @@ namespace cloth {
 
 namespace {
 
-struct XpbdSettings {
-    int iterations = 1;
-    bool chains = false;
-};
 
 class XpbdSolver final : public Solver {
 public:
@@ -50,7 +47,7 @@ public:
         dv_ = scratch_.v - state.v;
         StepResult result;
         result.iterations = passes;
-        result = commit(model, constraints_, input, *pool_, state, scratch_, result);
+        result = commitStep(model, constraints_, input, *pool_, state, scratch_, result);
         profile_.integrateMs = msSince(t0);
         return result;
     }

@@ -11,7 +11,7 @@
 
 #include "cloth/diagnostics.h"
 #include "peer/bullet_cloth.h"
-#include "registry/solver_registry.h"
+#include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 
 namespace study {
@@ -39,7 +39,7 @@ public:
         bullet_->step(input.h, input.pins, &force_, scratch_);
         dv_ = scratch_.v - state.v;
         profile_ = {0, msSince(t0), 0};
-        StepResult r = commit(model, constraints_, input, *pool_, state, scratch_, StepResult{});
+        StepResult r = commitStep(model, constraints_, input, *pool_, state, scratch_, StepResult{});
         r.iterations = settings<BulletSettings>().iterations;
         return r;
     }

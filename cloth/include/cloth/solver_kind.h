@@ -1,12 +1,15 @@
 #pragma once
-// The solver registry: every solver kind with its keys and its factory. The parser, validation,
-// describe(), the engine's scene parser (through setSolverParameter), threadsOf, --help, the
-// README's table and the demo's panel are all loops over it.
+// The solver registry: every solver kind with its keys and its factory, and what a kind is
+// written with. The parser, validation, describe(), the engine's scene parser (through
+// setSolverParameter), threadsOf, --help, the README's table and the demo's panel are all loops
+// over it (solver.h).
 //
-// A kind lives in one file: its settings struct, its key table and its factory, returned by a
-// function the file defines with FLAGSIM_SOLVER_KIND(name). The library's kinds are listed by
-// one line each in cloth/CMakeLists.txt (cloth_solver_kind(name file)), which generates the
-// list that registers them in that order; a program can add its own with registerSolverKind.
+// A kind lives in one file: its key table and its factory, returned by a function the file
+// defines with FLAGSIM_SOLVER_KIND(name), beside its public settings struct
+// (cloth/solvers/KIND.h). The library's kinds are listed by one line each in
+// cloth/CMakeLists.txt (cloth_solver_kind(name file)), which generates the list that registers
+// them in that order; a program can add its own with registerSolverKind (the study's Bullet
+// peer, the tests' damped_explicit), its step ending in commitStep (step_commit.h).
 
 #include <functional>
 #include <memory>
@@ -16,7 +19,7 @@
 #include <vector>
 
 #include "cloth/solver.h"
-#include "registry/key_table.h"
+#include "cloth/key_table.h"
 
 namespace cloth {
 

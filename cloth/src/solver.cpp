@@ -1,29 +1,16 @@
-#include "registry/solver_registry.h"
+#include "cloth/solver.h"
 
 #include <algorithm>
+#include <cmath>
+#include <iterator>
 #include <sstream>
 
-#include "registry/constraint_keys.h"
+#include "cloth/constraint_settings.h"
+#include "cloth/solver_kind.h"
 
 namespace cloth {
 
-// The library's kinds, one line each in cloth/CMakeLists.txt: FLAGSIM_LIST_KIND(name), in order.
-#define FLAGSIM_LIST_KIND(name) SolverKind solverKind_##name();
-#include "solver_kinds.inc"
-#undef FLAGSIM_LIST_KIND
-
 namespace {
-
-std::vector<SolverKind>& registry() {
-    static std::vector<SolverKind> kinds = [] {
-        std::vector<SolverKind> k;
-#define FLAGSIM_LIST_KIND(name) k.push_back(solverKind_##name());
-#include "solver_kinds.inc"
-#undef FLAGSIM_LIST_KIND
-        return k;
-    }();
-    return kinds;
-}
 
 std::string knownNames() {
     std::string out;
@@ -43,42 +30,14 @@ const SolverKey* findKey(const SolverKind& kind, std::string_view name) {
 
 }  // namespace
 
-const std::vector<SolverKind>& solverKinds() { return registry(); }
-
-const SolverKind* findSolverKind(std::string_view name) {
-    for (const SolverKind& k : solverKinds())
-        if (name == k.name) return &k;
-    return nullptr;
-}
-
-bool registerSolverKind(SolverKind kind, std::string* error) {
-    if (!kind.name || !*kind.name || !kind.defaults || !kind.make)
-        return failWith(error, "a solver kind needs a name, its defaults and a factory");
-    if (findSolverKind(kind.name)) return failWith(error, "solver kind '" + std::string(kind.name) + "' exists already");
-    registry().push_back(std::move(kind));
-    return true;
+const char* toString(StepStatus status) {
+    static const char* const names[] = {"ok", "non-finite state", "solver failed"};
+    const auto i = std::size_t(status);
+    return i < std::size(names) ? names[i] : "?";
 }
 
 SolverConfig::SolverConfig() {
     if (const SolverKind* paper = findSolverKind("kangcho")) paper->defaults(*this);
-}
-
-SolverConfig defaultsOf(const SolverKind& kind) {
-    SolverConfig c;
-    c.name = kind.name;
-    kind.defaults(c);
-    return c;
-}
-
-SolverKey compressionKey() {
-    return SolverKeys::shown(SolverKeys::choice("compression", &SolverConfig::compressionRule,
-                                                {{"on", true}, {"off", false}},
-                                                "eq. 17: under compression the Jacobian uses l0 := L"));
-}
-
-std::vector<SolverKey> withCommon(std::vector<SolverKey> own, bool implicit) {
-    if (implicit) own.push_back(compressionKey());
-    return own;
 }
 
 bool defaultSolverConfig(std::string_view name, SolverConfig& out, std::string* error) {
@@ -88,21 +47,42 @@ bool defaultSolverConfig(std::string_view name, SolverConfig& out, std::string* 
     return true;
 }
 
-bool setSolverParameter(SolverConfig& config, std::string_view key, std::string_view value, std::string* error) {
+namespace {
+
+// The key `key` of the config's kind, or null with *error naming what is wrong.
+const SolverKey* keyOf(const SolverConfig& config, std::string_view key, std::string* error) {
     const SolverKind* kind = findSolverKind(config.name);
-    if (!kind) return failWith(error, unknownSolver(config.name));
-    const SolverKey* k = findKey(*kind, key);
-    if (!k) {
-        std::string known;
-        for (const SolverKey& row : kind->keys) known += (known.empty() ? "" : ", ") + std::string(row.name);
-        return failWith(error, "solver '" + config.name + "' has no parameter '" + std::string(key) + "' (known: " +
-                                   known + ")");
-    }
+    if (!kind) return failWith(error, unknownSolver(config.name)), nullptr;
+    if (const SolverKey* k = findKey(*kind, key)) return k;
+    std::string known;
+    for (const SolverKey& row : kind->keys) known += (known.empty() ? "" : ", ") + std::string(row.name);
+    failWith(error, "solver '" + config.name + "' has no parameter '" + std::string(key) + "' (known: " + known + ")");
+    return nullptr;
+}
+
+bool badValue(const SolverConfig& config, const SolverKey& k, std::string_view value, std::string* error) {
+    return failWith(error, "solver '" + config.name + "' parameter " + k.name + " has a bad value '" +
+                               std::string(value) + "' (allowed: " + k.range() + ")");
+}
+
+}  // namespace
+
+bool setSolverParameter(SolverConfig& config, std::string_view key, std::string_view value, std::string* error) {
+    const SolverKey* k = keyOf(config, key, error);
+    if (!k) return false;
     double v = 0;
-    if (!k->read(value, v))
-        return failWith(error, "solver '" + config.name + "' parameter " + std::string(key) + " has a bad value '" +
-                                   std::string(value) + "' (allowed: " + k->range() + ")");
+    if (!k->read(value, v)) return badValue(config, *k, value, error);
     k->set(config, v);
+    return true;
+}
+
+bool setSolverParameter(SolverConfig& config, std::string_view key, double value, std::string* error) {
+    const SolverKey* k = keyOf(config, key, error);
+    if (!k) return false;
+    const bool whole = std::isfinite(value) && std::floor(value) == value;
+    if (k->type == KeyRow::Type::Choice || (k->type == KeyRow::Type::Integer && !whole) || !k->inRange(value))
+        return badValue(config, *k, shortestText(value), error);
+    k->set(config, value);
     return true;
 }
 

@@ -3,7 +3,7 @@
 // and its tuning, which the study settled and which is not a key (docs/multigrid.md). Public,
 // because the benchmark, the study and the tests set the tuning, and the multigrid hierarchy
 // (cloth/src/multigrid/) reads both; the kind's keys and factory are in
-// cloth/src/solvers/multigrid_solver.cpp.
+// cloth/src/solvers/multigrid_solver.cpp. Filled in by code: `SolverConfig(MultigridSettings{.cycles = 2})`.
 
 #include <optional>
 
@@ -28,6 +28,7 @@ struct MultigridTuning {
 // The fields of the kind's keys, each documented once, in its key table (multigrid_solver.cpp;
 // `flagsim --help` prints it).
 struct MultigridSettings {
+    static constexpr const char* kKind = "multigrid";
     int cycles = 0;
     double tolerance = 1.5e-3;
     int maxCycles = 16;

@@ -5,9 +5,8 @@
 // paths (kangcho/stencil.cpp, kangcho/gather.cpp) and multigrid compute the same numbers from the
 // same kernels (kernels.h) in other layouts, and the tests compare them.
 
-#include "cloth/forces.h"
-#include "cloth/solver.h"
-#include "cloth/system.h"
+#include "cloth/paper_step.h"
+
 #include "kernels.h"
 
 namespace cloth {

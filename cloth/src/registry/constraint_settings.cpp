@@ -1,9 +1,10 @@
 // The cloth's constraints' keys (tether, stretch_limit, stretch_passes) as a key table, and the
-// parser, validation and describe() of constraints.h as loops over it.
+// parser, validation and describe() as loops over it.
 
-#include "registry/constraint_keys.h"
+#include "cloth/constraint_settings.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace cloth {
 
@@ -21,19 +22,41 @@ const std::vector<ConstraintKey>& constraintKeys() {
     return rows;
 }
 
-bool setConstraint(Constraints& c, std::string_view key, std::string_view value, std::string* error) {
+namespace {
+
+// The key `key`, or null with *error naming what is wrong.
+const ConstraintKey* keyOf(std::string_view key, std::string* error) {
     const auto& rows = constraintKeys();
     const auto k = std::find_if(rows.begin(), rows.end(), [&](const ConstraintKey& r) { return key == r.name; });
-    if (k == rows.end()) {
-        std::string known;
-        for (const ConstraintKey& r : rows) known += (known.empty() ? "" : ", ") + std::string(r.name);
-        return failWith(error, "constraints have no key '" + std::string(key) + "' (known: " + known + ")");
-    }
+    if (k != rows.end()) return &*k;
+    std::string known;
+    for (const ConstraintKey& r : rows) known += (known.empty() ? "" : ", ") + std::string(r.name);
+    failWith(error, "constraints have no key '" + std::string(key) + "' (known: " + known + ")");
+    return nullptr;
+}
+
+bool badValue(const ConstraintKey& k, std::string_view value, std::string* error) {
+    return failWith(error, "constraint " + std::string(k.name) + " has a bad value '" + std::string(value) +
+                               "' (allowed: " + k.range() + ")");
+}
+
+}  // namespace
+
+bool setConstraint(Constraints& c, std::string_view key, std::string_view value, std::string* error) {
+    const ConstraintKey* k = keyOf(key, error);
+    if (!k) return false;
     double v = 0;
-    if (!k->read(value, v))
-        return failWith(error, "constraint " + std::string(key) + " has a bad value '" + std::string(value) +
-                                   "' (allowed: " + k->range() + ")");
+    if (!k->read(value, v)) return badValue(*k, value, error);
     k->set(c, v);
+    return true;
+}
+
+bool setConstraint(Constraints& c, std::string_view key, double value, std::string* error) {
+    const ConstraintKey* k = keyOf(key, error);
+    if (!k) return false;
+    const bool whole = std::isfinite(value) && std::floor(value) == value;
+    if ((k->type == KeyRow::Type::Integer && !whole) || !k->inRange(value)) return badValue(*k, shortestText(value), error);
+    k->set(c, value);
     return true;
 }
 
