@@ -37,8 +37,9 @@ except ImportError:
     sys.exit("nvidia_newton_study: numpy is missing: "
              "pip install -r tools/study/requirements-nvidia-newton.txt (in a venv)")
 
-from nvidia_newton.case import Case, InputError, load_case  # noqa: E402
+from nvidia_newton.case import Case  # noqa: E402
 from nvidia_newton.extreme import EXTREME_COLUMNS  # noqa: E402
+from nvidia_newton.load import InputError, load_case  # noqa: E402
 from nvidia_newton.output import write_csv  # noqa: E402
 from nvidia_newton.run import run_one  # noqa: E402
 from nvidia_newton.solvers import SolverChoice, parse_solver, split_solver_list  # noqa: E402
