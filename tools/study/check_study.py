@@ -46,13 +46,14 @@ def check_docs(d):
     print(f"{d}: all {len(DOC_CHECKS)} documented findings hold")
 
 
-def main():
-    if len(sys.argv) > 1 and sys.argv[1] == "--docs":
-        return check_docs(sys.argv[2] if len(sys.argv) > 2 else "docs/study")
-    nvidia_newton = "--nvidia-newton" in sys.argv[1:]
-    args = [a for a in sys.argv[1:] if a != "--nvidia-newton"]
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    if argv and argv[0] == "--docs":
+        return check_docs(argv[1] if len(argv) > 1 else "docs/study")
+    nvidia_newton = "--nvidia-newton" in argv
+    args = [a for a in argv if a != "--nvidia-newton"]
     check_run(args[0] if args else "out/study", nvidia_newton)
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -47,12 +47,13 @@ def compare(name, a, b):
     print(f"{name}: {len(ra)} rows, every deterministic column identical")
 
 
-def main():
-    if len(sys.argv) != 3:
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    if len(argv) != 2:
         sys.exit(__doc__)
     for name in FILES:
-        compare(name, sys.argv[1], sys.argv[2])
+        compare(name, argv[0], argv[1])
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

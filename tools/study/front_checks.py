@@ -111,8 +111,8 @@ def check_shipped(d):
     print(f"{path}: the demo's flag as it ships is stable on " + ", ".join(f"{r['path']} ({r['size']})" for r in shipped))
 
 
-def main():
-    args = sys.argv[1:]
+def main(args):
+    """Runs on argv, the command line's arguments without the program's name."""
     if len(args) == 2 and args[0] == "--shipped":
         return check_shipped(args[1])
     if len(args) != 1:
@@ -126,4 +126,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -163,18 +163,19 @@ def update(path, rows):
     return count
 
 
-def main():
-    if len(sys.argv) >= 4 and sys.argv[2] == "--update":
-        rows = read(sys.argv[1])
-        for path in sys.argv[3:]:
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    if len(argv) >= 3 and argv[1] == "--update":
+        rows = read(argv[0])
+        for path in argv[2:]:
             print(f"{path}: {update(path, rows)} tables")
         return None
-    if len(sys.argv) == 5 and sys.argv[2] == "--matrix":
-        return print("\n".join(matrix(read(sys.argv[1]), sys.argv[3], sys.argv[4])))
-    if len(sys.argv) != 2:
+    if len(argv) == 4 and argv[1] == "--matrix":
+        return print("\n".join(matrix(read(argv[0]), argv[2], argv[3])))
+    if len(argv) != 1:
         sys.exit(__doc__)
-    print("\n".join(table(read(sys.argv[1]))))
+    print("\n".join(table(read(argv[0]))))
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -87,10 +87,11 @@ def copy_whole(name, shard_dirs, out):
     return True
 
 
-def main():
-    if len(sys.argv) < 3:
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    if len(argv) < 2:
         sys.exit(__doc__)
-    out, shard_dirs = sys.argv[1], sys.argv[2:]
+    out, shard_dirs = argv[0], argv[1:]
     expected = shard_info(shard_dirs)
     os.makedirs(out, exist_ok=True)
     for name in FILES:
@@ -105,4 +106,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -121,7 +121,8 @@ def run_all(wp, cases: list[Case], choices: list[SolverChoice]) -> tuple[list[di
     return rows, extreme_rows
 
 
-def main(argv=None) -> int:
+def main(argv) -> int:
+    """Runs on argv, the command line's arguments without the program's name."""
     args = parse_args(argv)
     try:
         choices, cases = read_inputs(args)
@@ -140,4 +141,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))

@@ -213,10 +213,11 @@ def plot(rows, out):
     return len(labels)
 
 
-def main():
-    if len(sys.argv) != 2:
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    if len(argv) != 1:
         sys.exit(__doc__)
-    d = sys.argv[1]
+    d = argv[0]
     with open(os.path.join(d, "front.csv"), newline="") as f:
         rows = list(csv.DictReader(f))
     if not rows:
@@ -229,4 +230,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

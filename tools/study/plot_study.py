@@ -135,8 +135,9 @@ def plot_stability(rows, d):
     fig.savefig(os.path.join(d, "stability.png"), dpi=90)
 
 
-def main():
-    d = sys.argv[1] if len(sys.argv) > 1 else "out/study"
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    d = argv[0] if argv else "out/study"
     rows = read_rows(d)
     plot_error_vs_runtime(rows, d)
     plot_stability(rows, d)
@@ -144,4 +145,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])
