@@ -1,9 +1,8 @@
-#!/usr/bin/python3
 """Checks that two study runs (e.g. a serial run and merged shards) agree on every deterministic
 column of error_vs_runtime.csv, front.csv and extreme_cases.csv; the wall-clock columns
 (ms_per_step, ms_per_tick, ms_per_frame: any ms_per_*; timing) may differ.
 
-    tools/study/compare_runs.py DIR_A DIR_B      (exit 1 naming the first difference)
+    tools/study/study.py compare-runs DIR_A DIR_B  (exit 1 naming the first difference)
 """
 import csv
 import os
@@ -53,7 +52,3 @@ def main(argv):
         sys.exit(__doc__)
     for name in FILES:
         compare(name, argv[0], argv[1])
-
-
-if __name__ == "__main__":
-    main(sys.argv[1:])

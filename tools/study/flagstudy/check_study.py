@@ -1,28 +1,26 @@
-#!/usr/bin/python3
-"""Checks a study's outputs: every column and every solver family present, figures written.
+"""Checks a study's outputs: every column and every solver family present, figures written; and the
+findings the docs state, against the committed CSVs.
 
-    tools/study/check_study.py out/study      (exit 1 with the reason when something is missing;
-                                               front.csv's columns: front_checks.py)
-    tools/study/check_study.py --nvidia-newton out/study  (also: NVIDIA Newton's three solvers at every
+    tools/study/study.py check out/study      (exit 1 with the reason when something is missing;
+                                               front.csv's columns: study.py front-checks)
+    tools/study/study.py check --nvidia-newton out/study  (also: NVIDIA Newton's three solvers at every
                                                            scene and size, and at every extreme case
                                                            and size it was given)
-    tools/study/check_study.py --docs [DIR]   (only: every finding of docs/study.md (its front table
+    tools/study/study.py check-docs [DIR]     (only: every finding of docs/study.md (its front table
                                                first), docs/multigrid.md and docs/stiff_flag.md
                                                against the committed CSVs in DIR, default
                                                docs/study; one line per finding)
 """
-import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from checks.common import Docs, Finding  # noqa: E402
-from checks.demo_default_findings import DEMO_DEFAULT_FINDINGS  # noqa: E402
-from checks.front_demo_findings import FRONT_DEMO_FINDINGS  # noqa: E402
-from checks.front_findings import FRONT_FINDINGS  # noqa: E402
-from checks.multigrid_findings import MULTIGRID_FINDINGS  # noqa: E402
-from checks.run_outputs import check_run  # noqa: E402
-from checks.stiff_flag_findings import STIFF_FLAG_FINDINGS  # noqa: E402
-from checks.study_findings import STUDY_FINDINGS  # noqa: E402
+from flagstudy.checks.common import Docs, Finding
+from flagstudy.checks.demo_default_findings import DEMO_DEFAULT_FINDINGS
+from flagstudy.checks.front_demo_findings import FRONT_DEMO_FINDINGS
+from flagstudy.checks.front_findings import FRONT_FINDINGS
+from flagstudy.checks.multigrid_findings import MULTIGRID_FINDINGS
+from flagstudy.checks.run_outputs import check_run
+from flagstudy.checks.stiff_flag_findings import STIFF_FLAG_FINDINGS
+from flagstudy.checks.study_findings import STUDY_FINDINGS
 
 # Every named finding, each doc's in the order it cites them: docs/study.md (its opening front table
 # and the demo flag's front findings first), docs/multigrid.md, docs/stiff_flag.md.
@@ -47,13 +45,16 @@ def check_docs(d):
 
 
 def main(argv):
-    """Runs on argv, the command line's arguments without the program's name."""
-    if argv and argv[0] == "--docs":
-        return check_docs(argv[1] if len(argv) > 1 else "docs/study")
+    """study.py check: [--nvidia-newton] [DIR] (default out/study), the run's outputs."""
     nvidia_newton = "--nvidia-newton" in argv
     args = [a for a in argv if a != "--nvidia-newton"]
+    if len(args) > 1 or any(a.startswith("-") for a in args):
+        sys.exit(__doc__)
     check_run(args[0] if args else "out/study", nvidia_newton)
 
 
-if __name__ == "__main__":
-    main(sys.argv[1:])
+def main_docs(argv):
+    """study.py check-docs: [DIR] (default docs/study), every documented finding."""
+    if len(argv) > 1 or any(a.startswith("-") for a in argv):
+        sys.exit(__doc__)
+    check_docs(argv[0] if argv else "docs/study")

@@ -22,12 +22,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from nvidia_newton.output import fmt
+from flagstudy.nvidia_newton.output import fmt
 
 if TYPE_CHECKING:
-    from nvidia_newton.case import Case
-    from nvidia_newton.metrics import Metrics
-    from nvidia_newton.solvers import SolverChoice
+    from flagstudy.nvidia_newton.case import Case
+    from flagstudy.nvidia_newton.metrics import Metrics
+    from flagstudy.nvidia_newton.solvers import SolverChoice
 
 EXTREME_COLUMNS = [
     "case", "size", "config", "solver", "stable", "fail_step", "ms_per_tick", "timing", "max_stretch",

@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Plots the study: error against run time (with the Pareto front) and stability maps.
 
-    tools/study/plot_study.py out/study        (reads error_vs_runtime.csv, writes the PNGs)
+    tools/study/study.py plot-study out/study  (reads error_vs_runtime.csv, writes the PNGs)
 """
 import csv
 import math
@@ -142,7 +141,3 @@ def main(argv):
     plot_error_vs_runtime(rows, d)
     plot_stability(rows, d)
     print(os.path.join(d, "error_vs_runtime.png"), os.path.join(d, "stability.png"))
-
-
-if __name__ == "__main__":
-    main(sys.argv[1:])

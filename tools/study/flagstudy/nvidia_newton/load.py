@@ -11,8 +11,8 @@ from typing import Callable
 
 import numpy as np
 
-from nvidia_newton.case import Case
-from nvidia_newton.extreme import external_forces
+from flagstudy.nvidia_newton.case import Case
+from flagstudy.nvidia_newton.extreme import external_forces
 
 REQUIRED_FIELDS = [
     "scene", "size", "stiffness", "h", "steps", "gravity", "rest_positions", "masses", "springs",
