@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 """NVIDIA Newton's cloth solvers on the study's flag and pole motion, as rows of the study's CSV.
 
-    tools/study/nvidia_newton_study.py IN_DIR OUT_CSV [--solvers vbd,xpbd,style3d] [--max-size N] [--extreme-csv CSV]
+    tools/study/study.py nvidia-newton IN_DIR OUT_CSV [--solvers vbd,xpbd,style3d] [--max-size N] [--extreme-csv CSV]
 
 IN_DIR holds the JSON files of ``cloth_study --export-nvidia-newton DIR`` (one per configuration: the
 particles, masses, springs, triangles, pinned particles and every pin's target at the end of every
@@ -13,9 +12,10 @@ A solver is named as in the study, ``name[:key=value,...]``; ``--solvers`` takes
 semicolon-) separated list, e.g. ``vbd,xpbd:iterations=10,substeps=4,style3d``. The row's
 ``solver`` column names every setting used, defaults included.
 
-The package nvidia_newton/ says how: how a configuration is stepped (run.py), each solver's
-settings (solvers.py), how our springs' stiffness is matched (models.py), the metrics (metrics.py)
-and what the extreme cases add (extreme.py).
+The package flagstudy/nvidia_newton/ says how: how the input is read and checked (load.py, into
+case.py's Case), how a configuration is stepped (run.py), each solver's settings (solvers.py), how our
+springs' stiffness is matched (models.py), the metrics (metrics.py) and what the extreme cases add
+(extreme.py).
 
 Warp compiles its kernels on first use (LLVM, CPU) and caches them in ~/.cache/warp/<version>. On
 the study's 2-core machine (with another build running beside it), vbd, xpbd and style3d on a 9x9
@@ -37,11 +37,12 @@ except ImportError:
     sys.exit("nvidia_newton_study: numpy is missing: "
              "pip install -r tools/study/requirements-nvidia-newton.txt (in a venv)")
 
-from nvidia_newton.case import Case, InputError, load_case  # noqa: E402
-from nvidia_newton.extreme import EXTREME_COLUMNS  # noqa: E402
-from nvidia_newton.output import write_csv  # noqa: E402
-from nvidia_newton.run import run_one  # noqa: E402
-from nvidia_newton.solvers import SolverChoice, parse_solver, split_solver_list  # noqa: E402
+from flagstudy.nvidia_newton.case import Case  # noqa: E402
+from flagstudy.nvidia_newton.extreme import EXTREME_COLUMNS  # noqa: E402
+from flagstudy.nvidia_newton.load import InputError, load_case  # noqa: E402
+from flagstudy.nvidia_newton.output import write_csv  # noqa: E402
+from flagstudy.nvidia_newton.run import run_one  # noqa: E402
+from flagstudy.nvidia_newton.solvers import SolverChoice, parse_solver, split_solver_list  # noqa: E402
 
 
 class UsageError(Exception):
@@ -49,7 +50,7 @@ class UsageError(Exception):
 
 
 def parse_args(argv):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="study.py nvidia-newton", description=__doc__.split("\n\n")[0])
     ap.add_argument("in_dir", type=Path, help="directory of cloth_study --export-nvidia-newton JSON files")
     ap.add_argument("out_csv", type=Path)
     ap.add_argument("--solvers", default="vbd,xpbd,style3d",
@@ -120,7 +121,8 @@ def run_all(wp, cases: list[Case], choices: list[SolverChoice]) -> tuple[list[di
     return rows, extreme_rows
 
 
-def main(argv=None) -> int:
+def main(argv) -> int:
+    """Runs on argv, the command line's arguments without the program's name."""
     args = parse_args(argv)
     try:
         choices, cases = read_inputs(args)
@@ -136,7 +138,3 @@ def main(argv=None) -> int:
         write_csv(extreme_csv, extreme_rows, EXTREME_COLUMNS)
         print(f"nvidia_newton_study: {len(extreme_rows)} extreme-case rows written to {extreme_csv}", file=sys.stderr)
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,9 +1,8 @@
-#!/usr/bin/python3
 """Checks that two study runs (e.g. a serial run and merged shards) agree on every deterministic
 column of error_vs_runtime.csv, front.csv and extreme_cases.csv; the wall-clock columns
 (ms_per_step, ms_per_tick, ms_per_frame: any ms_per_*; timing) may differ.
 
-    tools/study/compare_runs.py DIR_A DIR_B      (exit 1 naming the first difference)
+    tools/study/study.py compare-runs DIR_A DIR_B  (exit 1 naming the first difference)
 """
 import csv
 import os
@@ -47,12 +46,9 @@ def compare(name, a, b):
     print(f"{name}: {len(ra)} rows, every deterministic column identical")
 
 
-def main():
-    if len(sys.argv) != 3:
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    if len(argv) != 2:
         sys.exit(__doc__)
     for name in FILES:
-        compare(name, sys.argv[1], sys.argv[2])
-
-
-if __name__ == "__main__":
-    main()
+        compare(name, argv[0], argv[1])

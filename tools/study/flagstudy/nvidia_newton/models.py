@@ -56,7 +56,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from nvidia_newton.case import Case
+from flagstudy.nvidia_newton.case import Case
 
 
 def grid_spacing(case: Case) -> tuple[float, float]:

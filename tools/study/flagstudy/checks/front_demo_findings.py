@@ -2,7 +2,7 @@
 against its reference (its whole model: springs, air, collisions, tethers and stretch limit), the
 constraints' own effect, and the cheapest configuration close to the true motion (front.csv,
 flag=demo, 33x33)."""
-from checks.common import PATHS, front, misses_on, need, num, scene, stable, teleport_rows, wrapped_stretch
+from flagstudy.checks.common import PATHS, front, misses_on, need, num, scene, stable, teleport_rows, wrapped_stretch
 
 
 def demo_misses(docs, config):

@@ -41,8 +41,8 @@ from typing import Callable
 
 import numpy as np
 
-from nvidia_newton.case import Case
-from nvidia_newton.models import build_springs, build_style3d, make_style3d, make_vbd, make_xpbd
+from flagstudy.nvidia_newton.case import Case
+from flagstudy.nvidia_newton.models import build_springs, build_style3d, make_style3d, make_vbd, make_xpbd
 
 XPBD_MARGIN = 2.0  # auto substeps: alpha >= XPBD_MARGIN * (w_i + w_j)
 XPBD_MAX_AUTO_SUBSTEPS = 128  # auto beyond this: the row says so instead of running for an hour

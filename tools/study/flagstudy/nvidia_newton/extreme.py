@@ -4,7 +4,7 @@ A JSON with ``"kind": "extreme"`` is one of cloth_study's extreme cases at one s
 k = 1e3 / 1e2 / 5 N/m, on a carrier driven through the case; pins and the carrier's velocity per
 240 Hz tick; its start velocities). It adds what the flag feels there: our air model (cloth/air.h,
 pressure drag, skin friction and lift per triangle, evaluated here in numpy, and checked against the
-library's force at one exported state of every case: case.check_air_twin) and the linear drag, both
+library's force at one exported state of every case: load.check_air_twin) and the linear drag, both
 evaluated at the state before each Newton step and passed as ``state.particle_f`` (the external
 force that VBD's forward step, XPBD's integrate_particles and Style3D's init step read), i.e.
 explicit air. There is no pole collision. Its row goes to the extreme CSV (``--extreme-csv``,
@@ -22,12 +22,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from nvidia_newton.output import fmt
+from flagstudy.nvidia_newton.output import fmt
 
 if TYPE_CHECKING:
-    from nvidia_newton.case import Case
-    from nvidia_newton.metrics import Metrics
-    from nvidia_newton.solvers import SolverChoice
+    from flagstudy.nvidia_newton.case import Case
+    from flagstudy.nvidia_newton.metrics import Metrics
+    from flagstudy.nvidia_newton.solvers import SolverChoice
 
 EXTREME_COLUMNS = [
     "case", "size", "config", "solver", "stable", "fail_step", "ms_per_tick", "timing", "max_stretch",

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from nvidia_newton.case import Case
+from flagstudy.nvidia_newton.case import Case
 
 STRETCH_KINDS = ("structural",)  # as cloth_study part 1 (cloth::measure(..., structuralOnly = true))
 MAX_DISTANCE = 100.0  # m from the first pin

@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Plots the front: each configuration's error against the true motion against its cost.
 
-    tools/study/plot_front.py out/study        (reads front.csv, writes front.png)
+    tools/study/study.py plot-front out/study  (reads front.csv, writes front.png)
 
 One panel per flag and path (flags as columns), log-log: x = cloth ms per 60 Hz frame, y = the
 trajectory error against the flag's reference in % of the flag's width. A point per configuration
@@ -22,7 +21,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-from front_table import FLAGS, PATHS, num  # noqa: E402  (the flags, paths and numbers of the table)
+from flagstudy.front_table import FLAGS, PATHS, num  # noqa: E402  (the flags, paths and numbers of the table)
 
 SIZE_STYLE = {"33": ("tab:blue", "o"), "65": ("tab:orange", "s")}
 OTHER_STYLE = ("tab:green", "D")  # a size the study does not run by default (--front-sizes)
@@ -213,10 +212,11 @@ def plot(rows, out):
     return len(labels)
 
 
-def main():
-    if len(sys.argv) != 2:
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    if len(argv) != 1:
         sys.exit(__doc__)
-    d = sys.argv[1]
+    d = argv[0]
     with open(os.path.join(d, "front.csv"), newline="") as f:
         rows = list(csv.DictReader(f))
     if not rows:
@@ -226,7 +226,3 @@ def main():
     points = sum(1 for r in rows if r["stable"] == "1" and (num(r["traj_error"]) or 0) > 0)
     print(f"{out}: {panels} panels, {points} configurations with a trajectory error, "
           f"{sum(r['stable'] != '1' for r in rows)} unstable rows")
-
-
-if __name__ == "__main__":
-    main()

@@ -28,11 +28,11 @@ import traceback
 
 import numpy as np
 
-from nvidia_newton.case import Case
-from nvidia_newton.extreme import external_forces, make_extreme_row
-from nvidia_newton.metrics import Metrics, Monitor
-from nvidia_newton.output import make_row
-from nvidia_newton.solvers import SolverChoice
+from flagstudy.nvidia_newton.case import Case
+from flagstudy.nvidia_newton.extreme import external_forces, make_extreme_row
+from flagstudy.nvidia_newton.metrics import Metrics, Monitor
+from flagstudy.nvidia_newton.output import make_row
+from flagstudy.nvidia_newton.solvers import SolverChoice
 
 PIN_TOLERANCE = 1e-6  # m
 FROZEN_TOLERANCE = 1e-6  # m: a run whose free particles never move farther did not simulate

@@ -1,4 +1,4 @@
-"""The checks of a run's outputs (tools/study/check_study.py DIR): every column, solver family and
+"""The checks of a run's outputs (tools/study/study.py check DIR): every column, solver family and
 scene of error_vs_runtime.csv, the figures, the values docs/study.md quotes wherever the run has the
 rows, multigrid and an exact reference at every scene and size, NVIDIA Newton's solvers when asked,
 and front.csv with the demo's flag as it ships stable on every path the run has (front_checks.py
@@ -7,8 +7,8 @@ import csv
 import os
 import sys
 
-import front_checks
-from checks.common import num
+from flagstudy import front_checks
+from flagstudy.checks.common import num
 
 COLUMNS = ["row", "scene", "size", "stiffness", "h", "family", "solver", "ms_per_step", "timing", "solve_error", "traj_error_be",
            "traj_error_fine", "max_stretch", "p99_stretch", "energy_growth", "stable", "fail_step"]

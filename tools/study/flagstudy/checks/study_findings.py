@@ -4,7 +4,7 @@ default_candidates_extreme.csv, cloth_rate_extreme.csv, tethers_extreme.csv)."""
 import math
 import os
 
-from checks.common import CASES, DEMO_DEFAULT, ROOT, ext, need, num, one, pct, scene, stable, wrapped_stretch
+from flagstudy.checks.common import CASES, DEMO_DEFAULT, ROOT, ext, need, num, one, pct, scene, stable, wrapped_stretch
 
 MAIN_K, MAIN_H = "10000", "0.00416667"
 # The stretch limit's keys as the CSVs name them (a scene says stretch_limit, stretch_passes).

@@ -1,6 +1,6 @@
 """The findings of docs/study.md's "The demo default and why": each choice of the demo's default
 configuration against the CSVs that show it."""
-from checks.common import CASES, DEMO_DEFAULT, ext, need, num, one, stable
+from flagstudy.checks.common import CASES, DEMO_DEFAULT, ext, need, num, one, stable
 
 
 def c_paper_step_alone_fails_extremes(docs):

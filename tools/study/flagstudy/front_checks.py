@@ -1,14 +1,13 @@
-#!/usr/bin/python3
 """Checks of a study run's front (front.csv, cloth_study's front.h), each written here apart from
 the C++ that wrote the columns:
 
-    tools/study/front_checks.py DIR             every column; the derived columns recomputed from
-                                                the raw ones (ms_per_frame, energy_ratio, misses:
-                                                the bounds written out again); each flag's
-                                                reference in every group
-    tools/study/front_checks.py --shipped DIR   only: the demo's flag as it ships is stable on every
-                                                path the run has (the ctest that runs the demo's
-                                                flag on all seven paths)
+    tools/study/study.py front-checks DIR             every column; the derived columns recomputed
+                                                      from the raw ones (ms_per_frame, energy_ratio,
+                                                      misses: the bounds written out again); each
+                                                      flag's reference in every group
+    tools/study/study.py front-checks --shipped DIR   only: the demo's flag as it ships is stable on
+                                                      every path the run has (the ctest that runs the
+                                                      demo's flag on all seven paths)
 """
 import csv
 import math
@@ -111,8 +110,8 @@ def check_shipped(d):
     print(f"{path}: the demo's flag as it ships is stable on " + ", ".join(f"{r['path']} ({r['size']})" for r in shipped))
 
 
-def main():
-    args = sys.argv[1:]
+def main(args):
+    """Runs on argv, the command line's arguments without the program's name."""
     if len(args) == 2 and args[0] == "--shipped":
         return check_shipped(args[1])
     if len(args) != 1:
@@ -123,7 +122,3 @@ def main():
         sys.exit(f"{path}: " + "; ".join(problems[:20]))
     print(f"{path}: {len(rows)} rows, every column; ms_per_frame, energy_ratio and misses agree with the raw "
           "columns and the bounds; every reference misses nothing")
-
-
-if __name__ == "__main__":
-    main()

@@ -2,7 +2,7 @@
 front.csv (flag=stiff), each judged by the bounds front_checks.py recomputes."""
 import statistics
 
-from checks.common import PATHS, front, misses_on, need, num, scene, stable, teleport_rows
+from flagstudy.checks.common import PATHS, front, misses_on, need, num, scene, stable, teleport_rows
 
 FLUTTER = ["speed_50mps", "gale_40mps"]
 # The implicit configurations whose step is a whole 240 Hz tick or longer.

@@ -11,9 +11,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from nvidia_newton.case import Case
-    from nvidia_newton.metrics import Metrics
-    from nvidia_newton.solvers import SolverChoice
+    from flagstudy.nvidia_newton.case import Case
+    from flagstudy.nvidia_newton.metrics import Metrics
+    from flagstudy.nvidia_newton.solvers import SolverChoice
 
 COLUMNS = [
     "scene", "size", "stiffness", "h", "family", "solver", "ms_per_step", "timing", "solve_error",

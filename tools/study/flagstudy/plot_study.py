@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Plots the study: error against run time (with the Pareto front) and stability maps.
 
-    tools/study/plot_study.py out/study        (reads error_vs_runtime.csv, writes the PNGs)
+    tools/study/study.py plot-study out/study  (reads error_vs_runtime.csv, writes the PNGs)
 """
 import csv
 import math
@@ -135,13 +134,10 @@ def plot_stability(rows, d):
     fig.savefig(os.path.join(d, "stability.png"), dpi=90)
 
 
-def main():
-    d = sys.argv[1] if len(sys.argv) > 1 else "out/study"
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    d = argv[0] if argv else "out/study"
     rows = read_rows(d)
     plot_error_vs_runtime(rows, d)
     plot_stability(rows, d)
     print(os.path.join(d, "error_vs_runtime.png"), os.path.join(d, "stability.png"))
-
-
-if __name__ == "__main__":
-    main()

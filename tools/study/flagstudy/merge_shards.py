@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Joins the CSVs of study shards (cloth_study --shard K/N) into the CSVs a serial run writes.
 
-    tools/study/merge_shards.py OUT SHARD_DIR...
+    tools/study/study.py merge-shards OUT SHARD_DIR...
 
 Every row carries its serial number (column `row`); the merge sorts by it and refuses a set of
 shards that misses a row or holds one twice (shard.json gives each file's row count). Writes
@@ -87,10 +86,11 @@ def copy_whole(name, shard_dirs, out):
     return True
 
 
-def main():
-    if len(sys.argv) < 3:
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    if len(argv) < 2:
         sys.exit(__doc__)
-    out, shard_dirs = sys.argv[1], sys.argv[2:]
+    out, shard_dirs = argv[0], argv[1:]
     expected = shard_info(shard_dirs)
     os.makedirs(out, exist_ok=True)
     for name in FILES:
@@ -102,7 +102,3 @@ def main():
     for name in WHOLE:
         if copy_whole(name, shard_dirs, out):
             print(f"{out}/{name}: the same in all {len(shard_dirs)} shards")
-
-
-if __name__ == "__main__":
-    main()

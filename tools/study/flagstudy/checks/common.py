@@ -5,7 +5,7 @@ import csv
 import json
 import os
 
-ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")  # this file is in tools/study/checks/
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..")  # in tools/study/flagstudy/checks/
 
 # The demo default as the CSVs label it: the solver's keys and the constraints in one spec, with
 # the stretch limit's keys under their CSV names (strain_limit, strain_passes).

@@ -1,11 +1,11 @@
-"""The front's tables in the docs, each as tools/study/front_table.py makes it from front.csv: the
+"""The front's tables in the docs, each as front_table.py makes it from front.csv: the
 opening table of docs/study.md, and every table of one flag and size's configurations (between
 `<!-- front-matrix FLAG SIZE -->` and `<!-- /front-matrix -->`) in the docs."""
 import os
 import re
 
-import front_table
-from checks.common import ROOT, need
+from flagstudy import front_table
+from flagstudy.checks.common import ROOT, need
 
 # The markers around the table in docs/study.md (HTML comments: Markdown shows nothing of them).
 START, END = "<!-- front-table -->", "<!-- /front-table -->"
@@ -58,7 +58,7 @@ def c_front_table_matches_csv(docs):
     shown = doc_table(doc)
     need(shown is not None, f"docs/study.md: no front table between {START} and {END}")
     diff = first_difference(shown, want)
-    need(diff is None, f"docs/study.md's front table, {diff} (regenerate it: tools/study/front_table.py {docs.d})")
+    need(diff is None, f"docs/study.md's front table, {diff} (regenerate it: tools/study/study.py front-table {docs.d})")
     return f"docs/study.md's front table ({len(want) - 2} rows) is front_table.py's from front.csv"
 
 
@@ -74,7 +74,7 @@ def c_front_matrices_match_csv(docs):
         for flag, size, block in MATRIX.findall(text):
             diff = first_difference(table_lines(block), front_table.matrix(rows, flag, size))
             need(diff is None, f"docs/{name}'s table of {flag} at {size}x{size}, {diff} "
-                               f"(regenerate it: tools/study/front_table.py {docs.d} --matrix {flag} {size})")
+                               f"(regenerate it: tools/study/study.py front-table {docs.d} --matrix {flag} {size})")
             seen.append(f"{name} {flag} {size}")
     need(seen, "no front-matrix table in the docs")
     return "the configuration tables (" + ", ".join(seen) + ") are front_table.py's from front.csv"

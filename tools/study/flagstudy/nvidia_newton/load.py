@@ -6,13 +6,13 @@ velocity), read into a Case and checked."""
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
-from nvidia_newton.extreme import external_forces
+from flagstudy.nvidia_newton.case import Case
+from flagstudy.nvidia_newton.extreme import external_forces
 
 REQUIRED_FIELDS = [
     "scene", "size", "stiffness", "h", "steps", "gravity", "rest_positions", "masses", "springs",
@@ -22,37 +22,6 @@ REQUIRED_FIELDS = [
 
 class InputError(Exception):
     pass
-
-
-@dataclass
-class Case:
-    path: Path
-    scene: str
-    size: int
-    stiffness: float
-    h: float
-    steps: int
-    gravity: np.ndarray  # (3,)
-    rest: np.ndarray  # (n, 3) start positions
-    masses: np.ndarray  # (n,)
-    spring_ij: np.ndarray  # (m, 2) int
-    spring_k: np.ndarray  # (m,)
-    spring_rest: np.ndarray  # (m,)
-    spring_kind: np.ndarray  # (m,) str
-    triangles: np.ndarray  # (t, 3) int
-    pinned: np.ndarray  # (p,) int
-    pin_targets: np.ndarray  # (steps, p, 3): target at the end of step s
-    # Extreme cases (``"kind": "extreme"``) also give:
-    kind: str = "config"
-    velocities: np.ndarray | None = None  # (n, 3) start velocities (else at rest)
-    air: dict | None = None  # our air model's parameters, applied as an explicit external force
-    drag: float = 0.0  # linear drag rate, 1/s: f = -drag m v
-    jump_at: float = -1.0  # s: when the pole jumps (teleport), else < 0
-    carrier_velocity: np.ndarray | None = None  # (steps, 3): the carrier's velocity at the end of step s
-
-    @property
-    def n(self) -> int:
-        return len(self.masses)
 
 
 def load_case(path: Path) -> Case:

@@ -1,5 +1,5 @@
 """The findings of docs/multigrid.md: the default's accuracy and its design choices (multigrid_*.csv)."""
-from checks.common import need, num, one, stable
+from flagstudy.checks.common import need, num, one, stable
 
 
 def mg(docs, name, size, solver):

@@ -1,11 +1,11 @@
-#!/usr/bin/python3
 """The front in Markdown tables: per flag, path and size, the cheapest configuration within every
 bound and what the flag's scene ships; and, for one flag and size, every configuration on every
 path (its cost, its error and the bounds it misses).
 
-    tools/study/front_table.py out/study                    (reads front.csv, prints the table)
-    tools/study/front_table.py out/study --matrix stiff 33  (every configuration of one flag and size)
-    tools/study/front_table.py docs/study --update docs/study.md docs/stiff_flag.md
+    tools/study/study.py front-table out/study                    (reads front.csv, prints the table)
+    tools/study/study.py front-table out/study --matrix stiff 33  (every configuration of one flag
+                                                                  and size)
+    tools/study/study.py front-table docs/study --update docs/study.md docs/stiff_flag.md
         (rewrites the tables between the markers <!-- front-table --> and <!-- front-matrix FLAG
          SIZE --> and their closing ones in each file, from DIR/front.csv)
 
@@ -16,7 +16,7 @@ error is in % of the flag's width ("n/a" where the run has none, e.g. above --tr
 The bounds judge stretch and flutter, not the path the cloth takes, so a second choice also asks for
 a trajectory error of at most 2% of the width (TRAJ).
 The shipped columns are config `shipped`: the flag as its scene ships it, and the bounds it misses.
-check_study.py --docs compares docs/study.md's copy of the table with table(docs/study/front.csv).
+study.py check-docs compares docs/study.md's copy of the table with table(docs/study/front.csv).
 """
 import csv
 import math
@@ -163,18 +163,15 @@ def update(path, rows):
     return count
 
 
-def main():
-    if len(sys.argv) >= 4 and sys.argv[2] == "--update":
-        rows = read(sys.argv[1])
-        for path in sys.argv[3:]:
+def main(argv):
+    """Runs on argv, the command line's arguments without the program's name."""
+    if len(argv) >= 3 and argv[1] == "--update":
+        rows = read(argv[0])
+        for path in argv[2:]:
             print(f"{path}: {update(path, rows)} tables")
         return None
-    if len(sys.argv) == 5 and sys.argv[2] == "--matrix":
-        return print("\n".join(matrix(read(sys.argv[1]), sys.argv[3], sys.argv[4])))
-    if len(sys.argv) != 2:
+    if len(argv) == 4 and argv[1] == "--matrix":
+        return print("\n".join(matrix(read(argv[0]), argv[2], argv[3])))
+    if len(argv) != 1:
         sys.exit(__doc__)
-    print("\n".join(table(read(sys.argv[1]))))
-
-
-if __name__ == "__main__":
-    main()
+    print("\n".join(table(read(argv[0]))))

@@ -1,3 +1,0 @@
-"""NVIDIA Newton's cloth solvers on the study's flags and pole motion (tools/study/nvidia_newton_study.py):
-the input (case), the air of the extreme cases (extreme), the Newton models (models) and solver settings
-(solvers), one run of a configuration (run), its metrics (metrics) and the CSV rows (output)."""
