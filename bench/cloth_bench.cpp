@@ -24,7 +24,7 @@
 #include "cloth/solver.h"
 #include "cloth/constraints.h"
 #ifdef FLAGSIM_HAS_BULLET_PEER
-#include "peer/bullet_cloth.h"
+#include "peers/bullet_cloth.h"
 #endif
 
 namespace {

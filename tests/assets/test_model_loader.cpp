@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "engine/assets/model_loader.h"
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 #include "engine/physics/vehicle_world.h"
 
 using namespace engine;

@@ -4,6 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include "cloth/solvers/chebyshev.h"
+#include "cloth/solvers/desbrun.h"
+#include "cloth/solvers/exact.h"
+#include "cloth/solvers/explicit.h"
+#include "cloth/solvers/kangcho.h"
+#include "cloth/solvers/multigrid_solver.h"
+#include "cloth/solvers/newton.h"
+#include "cloth/solvers/small_steps.h"
+#include "cloth/solvers/xpbd.h"
+
 #include <fstream>
 #include <sstream>
 
@@ -135,6 +145,34 @@ TEST(SolverTable, EveryConstraintParsesPrintsAndReadsBackAndRefusesWhatIsOutOfRa
     EXPECT_NE(error.find("key=value"), std::string::npos) << error;
     EXPECT_FALSE(parseConstraints("passes=3", none, &error));
     EXPECT_NE(error.find("known: tether, stretch_limit, stretch_passes"), std::string::npos) << error;
+}
+
+TEST(SolverTable, ASettingsStructFilledByCodeIsTheConfigTheTextNames) {
+    // Each kind's public settings struct (cloth/solvers/KIND.h) makes the config that its text
+    // form makes, field by field through the key table: the same describe(), the same solver.
+    const std::pair<SolverConfig, std::string> cases[] = {
+        {MultigridSettings{.cycles = 2}, "multigrid:cycles=2"},
+        {KangchoSettings{.iterations = 3, .impl = KangchoSettings::Impl::Gather}, "kangcho:iterations=3,impl=gather"},
+        {NewtonSettings{.integrator = NewtonSettings::Integrator::BDF2, .maxIterations = 2}, "newton:integrator=bdf2,max_iterations=2"},
+        {SmallStepsSettings{.maxMove = 0.01}, "small_steps:max_move=0.01"},
+        {ExplicitSettings{.substeps = 16}, "explicit:substeps=16"},
+        {XpbdSettings{.iterations = 4, .chains = true}, "xpbd:iterations=4,chains=on"},
+        {ChebyshevSettings{.iterations = 5, .rho = 0.9}, "chebyshev:iterations=5,rho=0.9"},
+        {ExactSettings{.method = ExactSettings::Method::CG}, "exact:method=cg"},
+        {DesbrunSettings{}, "desbrun"},
+    };
+    for (const auto& [typed, text] : cases) {
+        SolverConfig parsed;
+        std::string error;
+        ASSERT_TRUE(parseSolverConfig(text, parsed, &error)) << text << ": " << error;
+        EXPECT_EQ(typed.describe(), parsed.describe()) << text;
+        EXPECT_EQ(validate(typed), "") << text;
+        EXPECT_TRUE(makeSolver(typed)) << text;
+    }
+    // Out of range in code is refused where a solver is made, naming the key.
+    std::string error;
+    EXPECT_FALSE(makeSolver(MultigridSettings{.cycles = -1}, &error));
+    EXPECT_NE(error.find("parameter cycles = -1 must be in [0, 1000]"), std::string::npos) << error;
 }
 
 TEST(SolverTable, KeysOfOneKindAreRefusedByAnother) {

@@ -1,7 +1,7 @@
 #pragma once
 // Bullet's profile zones as a tick opens them, three levels deep, for the profiler's tests.
 
-#include "engine/profiler.h"
+#include "engine/profile/profiler.h"
 
 inline void enterAndLeaveBulletZones(engine::Profiler& p) {
     p.enterZone("internalSingleStepSimulation");

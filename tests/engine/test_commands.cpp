@@ -9,10 +9,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "engine/config_error.h"
-#include "engine/input_script.h"
+#include "engine/scene/config_error.h"
+#include "engine/scene/input_script.h"
 #include "engine/runtime.h"
-#include "engine/tick_clock.h"
+#include "engine/clock/tick_clock.h"
 
 using namespace engine;
 

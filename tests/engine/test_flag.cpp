@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cloth/diagnostics.h"
-#include "engine/flag.h"
+#include "engine/flag/flag.h"
 
 using namespace engine;
 

@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "engine/config_error.h"
-#include "engine/input_script.h"
+#include "engine/scene/config_error.h"
+#include "engine/scene/input_script.h"
 
 using namespace engine;
 

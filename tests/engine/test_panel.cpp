@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <functional>
 
-#include "engine/input_script.h"
+#include "engine/scene/input_script.h"
 #include "engine/runtime.h"
 #include "tests/kinds/damped_explicit_kind.h"
 

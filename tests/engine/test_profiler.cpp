@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "bullet_zones.h"
-#include "engine/profiler.h"
+#include "engine/profile/profiler.h"
 
 using namespace engine;
 

@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 #include "engine/runtime.h"
 
 using namespace engine;

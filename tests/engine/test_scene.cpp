@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/config_error.h"
-#include "engine/scene.h"
+#include "engine/scene/config_error.h"
+#include "engine/scene/scene.h"
 
 using namespace engine;
 
@@ -116,6 +116,10 @@ TEST(Scene, MalformedScenesNameFileFieldAndValue) {
         {"{" + base + R"(, "flag": {"solver": {"name": "multigrid", "damping": 0.5}}})", "flag.solver.damping = 0.5: solver 'multigrid' has no parameter 'damping'"},
         {"{" + base + R"(, "flag": {"solver": {"threads": [2]}}})", "flag.solver.threads = [2]: must be a number"},
         {"{" + base + R"(, "flag": {"solver": {"iterations": -1}}})", "flag.solver.iterations = -1"},
+        // JSON numbers are numbers: an integer key takes whole numbers only, a choice no number.
+        {"{" + base + R"(, "flag": {"solver": {"iterations": 2.5}}})", "flag.solver.iterations = 2.5: solver 'kangcho' parameter iterations has a bad value '2.5'"},
+        {"{" + base + R"(, "flag": {"solver": {"impl": 1}}})", "flag.solver.impl = 1: solver 'kangcho' parameter impl has a bad value '1' (allowed: fast|gather|reference)"},
+        {"{" + base + R"(, "flag": {"constraints": {"stretch_passes": 1.5}}})", "flag.constraints.stretch_passes = 1.5: constraint stretch_passes has a bad value '1.5'"},
         {"{" + base + R"(, "timing": {"physics_hz": 0}})", "timing.physics_hz = 0"},
         {"{" + base + R"(, "timing": {"fps": -60}})", "timing.fps = -60"},
         {"{" + base + R"(, "air": {"wind": [1, 2]}})", "air.wind = [1,2]: must be an array of 3"},

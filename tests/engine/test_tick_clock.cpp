@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "engine/tick_clock.h"
+#include "engine/clock/tick_clock.h"
 
 using namespace engine;
 using std::chrono::milliseconds;

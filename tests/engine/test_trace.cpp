@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bullet_zones.h"
-#include "engine/profiler.h"
-#include "engine/trace.h"
+#include "engine/profile/profiler.h"
+#include "engine/profile/trace.h"
 
 using namespace engine;
 using namespace std::chrono_literals;

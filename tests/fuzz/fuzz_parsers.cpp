@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <string>
 
-#include "engine/config_error.h"
-#include "engine/input_script.h"
-#include "engine/scene.h"
+#include "engine/scene/config_error.h"
+#include "engine/scene/input_script.h"
+#include "engine/scene/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);

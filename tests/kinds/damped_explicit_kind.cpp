@@ -10,7 +10,7 @@
 
 #include "cloth/diagnostics.h"
 #include "cloth/forces.h"
-#include "solvers/step_common.h"
+#include "cloth/step_commit.h"
 
 namespace cloth {
 

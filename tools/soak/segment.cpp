@@ -9,7 +9,7 @@
 #include <memory>
 #include <thread>
 
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 #include "engine/runtime.h"
 #include "soak.h"
 

@@ -13,9 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/atomic_file.h"
+#include "engine/files/atomic_file.h"
 #include "engine/runtime.h"
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 namespace soak {
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "engine/runtime.h"
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 #include "soak.h"
 
 int main(int argc, char** argv) {

@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/flag.h"
-#include "engine/profiler.h"
-#include "engine/scene.h"
+#include "engine/flag/flag.h"
+#include "engine/profile/profiler.h"
+#include "engine/scene/scene.h"
 
 namespace engine {
 

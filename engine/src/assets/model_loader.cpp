@@ -8,7 +8,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 
 namespace engine {
 

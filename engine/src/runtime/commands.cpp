@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "cloth/diagnostics.h"
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 #include "runtime/runtime_impl.h"
 
 namespace engine {

@@ -2,7 +2,7 @@
 
 #include "runtime/recording.h"
 
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 #include "engine/record/frame_writer.h"
 #include "engine/record/video_encoder.h"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "engine/runtime.h"
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 namespace engine {
 

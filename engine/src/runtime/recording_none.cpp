@@ -1,6 +1,6 @@
 // Recording in a build without OSMesa and SDL2 (no frames to record): a clear error.
 
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 #include "runtime/recording.h"
 
 namespace engine {

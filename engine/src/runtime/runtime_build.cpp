@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "engine/config_error.h"
-#include "engine/input_script.h"
+#include "engine/scene/config_error.h"
+#include "engine/scene/input_script.h"
 #include "runtime/runtime_impl.h"
 
 namespace engine {

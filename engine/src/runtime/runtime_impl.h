@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "engine/command.h"
-#include "engine/flag.h"
-#include "engine/input_script.h"
-#include "engine/profiler.h"
+#include "engine/scene/command.h"
+#include "engine/flag/flag.h"
+#include "engine/scene/input_script.h"
+#include "engine/profile/profiler.h"
 #include "engine/runtime.h"
-#include "engine/tick_clock.h"
-#include "engine/trace.h"
+#include "engine/clock/tick_clock.h"
+#include "engine/profile/trace.h"
 #include "runtime/recording.h"
 #include "runtime/scene_view.h"
 #include "runtime/vehicle_system.h"

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "engine/assets/primitives.h"
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 #ifdef FLAGSIM_HAS_BULLET
 #include "engine/physics/vehicle_world.h"
 #endif

@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "engine/flag.h"
-#include "engine/input_script.h"
-#include "engine/profiler.h"
+#include "engine/flag/flag.h"
+#include "engine/scene/input_script.h"
+#include "engine/profile/profiler.h"
 #include "engine/runtime.h"
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 #include "ui/panel_types.h"
 
 namespace engine {

@@ -1,6 +1,6 @@
 // Rendering in a build without OSMesa and SDL2: a scene that declares it gets a clear error.
 
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 #include "runtime/scene_view.h"
 
 namespace engine {

@@ -3,8 +3,8 @@
 
 #include <string>
 
-#include "engine/profiler.h"
-#include "engine/scene.h"
+#include "engine/profile/profiler.h"
+#include "engine/scene/scene.h"
 
 namespace engine {
 

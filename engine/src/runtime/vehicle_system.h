@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "cloth/collision.h"
-#include "engine/flag.h"
-#include "engine/input_script.h"
+#include "engine/flag/flag.h"
+#include "engine/scene/input_script.h"
 #include "engine/mesh.h"
-#include "engine/profiler.h"
-#include "engine/scene.h"
+#include "engine/profile/profiler.h"
+#include "engine/scene/scene.h"
 
 namespace engine {
 

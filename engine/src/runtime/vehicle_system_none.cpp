@@ -1,6 +1,6 @@
 // The vehicle subsystem in a build without Bullet: a scene that declares it gets a clear error.
 
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 #include "runtime/vehicle_system.h"
 
 namespace engine {

@@ -8,7 +8,7 @@
 
 #include "cloth/model.h"
 #include "cloth/solver.h"
-#include "engine/command.h"
+#include "engine/scene/command.h"
 
 namespace engine {
 

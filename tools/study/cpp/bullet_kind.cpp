@@ -7,12 +7,13 @@
 
 #include "bullet_kind.h"
 
+#include <chrono>
 #include <memory>
 
 #include "cloth/diagnostics.h"
-#include "peer/bullet_cloth.h"
 #include "cloth/solver_kind.h"
-#include "solvers/step_common.h"
+#include "cloth/step_commit.h"
+#include "peers/bullet_cloth.h"
 
 namespace study {
 
@@ -31,14 +32,14 @@ public:
         if (!bullet_ || model.id() != model_)
             bullet_ = std::make_unique<peer::BulletCloth>(model, state, input.pins, settings<BulletSettings>().iterations);
         model_ = model.id();
-        const auto t0 = Clock::now();
+        const auto t0 = std::chrono::steady_clock::now();
         // Gravity is Bullet's own; the drag and the air come in as forces.
         force_ = input.externalForce ? *input.externalForce : Points::Zero(3, model.particleCount());
         for (Index i = 0; i < model.particleCount(); ++i) force_.col(i) -= env.drag * model.masses()[i] * state.v.col(i);
         scratch_ = state;
         bullet_->step(input.h, input.pins, &force_, scratch_);
         dv_ = scratch_.v - state.v;
-        profile_ = {0, msSince(t0), 0};
+        profile_ = {0, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), 0};
         StepResult r = commitStep(model, constraints_, input, *pool_, state, scratch_, StepResult{});
         r.iterations = settings<BulletSettings>().iterations;
         return r;

@@ -30,7 +30,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // shard.json: which part of the work this run holds and how many rows the whole run has, so that
-// merge_shards.py can tell a complete set of shards from an incomplete one.
+// `study.py merge-shards` can tell a complete set of shards from an incomplete one.
 void writeShardInfo(const StudyOptions& o, long configRows, long frontRows) {
     std::ofstream f(o.out + "/shard.json");
     f << "{\"shard\": " << o.shard << ", \"of\": " << o.shards << ", \"rows\": {\"error_vs_runtime.csv\": " << configRows

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 #include "study_options.h"
 
 namespace study {

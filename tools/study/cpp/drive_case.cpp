@@ -5,7 +5,7 @@
 #include <memory>
 #include <vector>
 
-#include "engine/input_script.h"
+#include "engine/scene/input_script.h"
 #include "engine/physics/vehicle_world.h"
 
 namespace study {

@@ -4,7 +4,7 @@
 // flutters to its end. Its carrier is the pole's frame (the chassis frame moved to the pole's
 // base), so the flag rides it as in the other cases (extremeMount).
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 #include "extreme_cases.h"
 
 namespace study {

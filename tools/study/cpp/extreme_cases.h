@@ -10,8 +10,8 @@
 
 #include <Eigen/Core>
 
-#include "engine/flag.h"
-#include "engine/scene.h"
+#include "engine/flag/flag.h"
+#include "engine/scene/scene.h"
 
 namespace study {
 

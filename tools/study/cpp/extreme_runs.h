@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "cloth/model.h"
-#include "engine/flag.h"
-#include "engine/scene.h"
+#include "engine/flag/flag.h"
+#include "engine/scene/scene.h"
 #include "extreme_cases.h"
 
 namespace study {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "configurations.h"
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 #include "extreme_cases.h"
 #include "extreme_runs.h"
 #include "study_options.h"

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cloth/air.h"
-#include "engine/flag.h"
+#include "engine/flag/flag.h"
 #include "specs.h"
 
 namespace study {
@@ -17,7 +17,7 @@ namespace {
 using cloth::Points;
 using cloth::State;
 
-// What every NVIDIA Newton harness input holds (tools/study/nvidia_newton_study.py reads it): the configuration's
+// What every NVIDIA Newton harness input holds (tools/study/flagstudy/nvidia_newton_study.py reads it): the configuration's
 // name, size, stiffness and step, gravity, the cloth (start positions, masses, springs, triangles)
 // and its pinned particles. Pin targets per step are appended with pinTargets().
 // Points (3 x n) as n triples.
@@ -102,7 +102,7 @@ void exportExtremeForNvidiaNewton(const std::string& dir, const engine::SceneCon
 }
 
 // The flag and the pole motion of one configuration, for the NVIDIA Newton harness
-// (tools/study/nvidia_newton_study.py): the same particles, masses, springs, triangles and pins, and every
+// (tools/study/flagstudy/nvidia_newton_study.py): the same particles, masses, springs, triangles and pins, and every
 // pin's target at the end of every step.
 void exportForNvidiaNewtonRun(const std::string& dir, const Scene& scene, int n, double k, double h, double duration) {
     const cloth::HangingFlag flag = studyFlag(n, k);

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/input_script.h"
+#include "engine/scene/input_script.h"
 #include "engine/physics/vehicle_world.h"
 
 namespace study {

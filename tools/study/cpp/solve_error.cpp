@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "cloth/diagnostics.h"
-#include "peer/bullet_cloth.h"
+#include "peers/bullet_cloth.h"
 #include "specs.h"
 
 namespace study {

@@ -49,11 +49,11 @@ and in six extreme cases, every configuration against the flag's fine-step refer
                        size, mass, stiffness, constraints, air, vehicle and drive script, and, as
                        `shipped`, its solver
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
-                       numbers; tools/study/merge_shards.py joins the parts)
+                       numbers; tools/study/study.py merge-shards joins the parts)
   --export-nvidia-newton DIR
                        write the flag and pole motion of every k=1e4, h=1/240 configuration, and of
                        every path and size of the front (--quick: the teleport), as JSON for NVIDIA
-                       Newton's harness (tools/study/nvidia_newton_study.py), then stop
+                       Newton's harness (tools/study/study.py nvidia-newton), then stop
   --parallel           mark the timing columns as taken while other shards ran (timing=parallel)
   --help               this text
 )";

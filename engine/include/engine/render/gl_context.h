@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "engine/input_script.h"
+#include "engine/scene/input_script.h"
 
 namespace engine {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "engine/mesh.h"
-#include "engine/render/anti_aliasing.h"
+#include "engine/scene/anti_aliasing.h"
 #include "engine/render/gl_context.h"
 
 namespace engine {

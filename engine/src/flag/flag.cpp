@@ -1,11 +1,11 @@
-#include "engine/flag.h"
+#include "engine/flag/flag.h"
 
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
-#include "engine/config_error.h"
-#include "engine/profiler.h"
+#include "engine/scene/config_error.h"
+#include "engine/profile/profiler.h"
 
 namespace engine {
 

@@ -1,4 +1,4 @@
-#include "engine/command.h"
+#include "engine/scene/command.h"
 
 #include <cmath>
 #include <cstdlib>

@@ -1,4 +1,4 @@
-#include "engine/tick_clock.h"
+#include "engine/clock/tick_clock.h"
 
 #include <cmath>
 

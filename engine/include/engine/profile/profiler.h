@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/trace.h"
+#include "engine/profile/trace.h"
 
 namespace engine {
 

@@ -7,7 +7,7 @@
 #include <initializer_list>
 #include <string>
 
-#include "engine/config_error.h"
+#include "engine/scene/config_error.h"
 
 namespace engine {
 

@@ -1,12 +1,12 @@
-#include "engine/input_script.h"
+#include "engine/scene/input_script.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "core/json_fields.h"
-#include "engine/atomic_file.h"
+#include "scene/json_fields.h"
+#include "engine/files/atomic_file.h"
 
 namespace engine {
 

@@ -1,10 +1,10 @@
-#include "engine/trace.h"
+#include "engine/profile/trace.h"
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
 #include <numeric>
 
-#include "engine/atomic_file.h"
+#include "engine/files/atomic_file.h"
 
 namespace engine {
 

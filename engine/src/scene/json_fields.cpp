@@ -1,4 +1,4 @@
-#include "core/json_fields.h"
+#include "scene/json_fields.h"
 
 #include <cmath>
 #include <fstream>

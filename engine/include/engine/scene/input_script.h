@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/command.h"
+#include "engine/scene/command.h"
 
 namespace engine {
 

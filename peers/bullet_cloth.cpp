@@ -1,4 +1,4 @@
-#include "peer/bullet_cloth.h"
+#include "peers/bullet_cloth.h"
 
 #include <BulletSoftBody/btSoftBody.h>
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>

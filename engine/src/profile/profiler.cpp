@@ -1,6 +1,6 @@
-#include "engine/profiler.h"
+#include "engine/profile/profiler.h"
 
-#include "engine/atomic_file.h"
+#include "engine/files/atomic_file.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "engine/render/anti_aliasing.h"
+#include "engine/scene/anti_aliasing.h"
 
 #include <string>
 

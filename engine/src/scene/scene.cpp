@@ -1,10 +1,10 @@
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
 
-#include "core/json_fields.h"
+#include "scene/json_fields.h"
 
 namespace engine {
 
@@ -122,30 +122,36 @@ void readResolution(const JsonFields& f, SceneConfig::Flag& flag) {
     flag.ny = static_cast<int>(ny);
 }
 
-// "flag.solver": a solver's name and its parameters, checked against the cloth library's solver
-// table (as --solver is).
-// Each key of `obj` but "name" through set(key, its value as text, error).
-void readKeys(const JsonFields& obj, const std::function<bool(const std::string&, const std::string&, std::string*)>& set) {
+// Each key of `obj` but "name" through a setter: a JSON number stays a number (number(key, value,
+// error)); a word, or true/false as on/off, goes as text (text(key, word, error)).
+using SetNumber = std::function<bool(const std::string&, double, std::string*)>;
+using SetText = std::function<bool(const std::string&, const std::string&, std::string*)>;
+void readKeys(const JsonFields& obj, const SetNumber& number, const SetText& text) {
     std::string error;
     for (const auto& [key, value] : obj.object().items()) {
         if (key == "name") continue;
-        const std::string text = value.is_boolean() ? (value.get<bool>() ? "on" : "off")
-                                 : value.is_string() ? value.get<std::string>()
-                                                     : value.dump();
-        if (!value.is_primitive() || value.is_null() || !set(key, text, &error))
-            obj.fail(obj.pathOf(key.c_str()), value,
-                     value.is_primitive() && !value.is_null() ? error : "must be a number, a word or true/false");
+        bool ok = false;
+        if (value.is_number()) ok = number(key, value.get<double>(), &error);
+        else if (value.is_boolean()) ok = text(key, value.get<bool>() ? "on" : "off", &error);
+        else if (value.is_string()) ok = text(key, value.get<std::string>(), &error);
+        else error = "must be a number, a word or true/false";
+        if (!ok) obj.fail(obj.pathOf(key.c_str()), value, error);
     }
 }
 
+// "flag.solver": a solver's name and its settings, checked against the cloth library's solver
+// table (as --solver is).
 void readSolver(const JsonFields& solver, cloth::SolverConfig& config) {
     std::string error;
     const std::string name = solver.string("name", config.name);
     if (!cloth::defaultSolverConfig(name, config, &error))
         solver.fail(solver.pathOf("name"), solver.at("name"), error);
-    readKeys(solver, [&](const std::string& key, const std::string& text, std::string* why) {
-        return cloth::setSolverParameter(config, key, text, why);
-    });
+    readKeys(
+        solver,
+        [&](const std::string& key, double v, std::string* why) { return cloth::setSolverParameter(config, key, v, why); },
+        [&](const std::string& key, const std::string& t, std::string* why) {
+            return cloth::setSolverParameter(config, key, t, why);
+        });
     if (const std::string problem = cloth::validate(config); !problem.empty())
         solver.fail(solver.pathOf("name"), solver.has("name") ? solver.at("name") : nlohmann::json(name), problem);
 }
@@ -165,9 +171,12 @@ void readFlag(const JsonFields& top, SceneConfig::Flag& flag) {
     flag.stiffness.shear = k.number("shear", flag.stiffness.shear, 1e-3, 1e9);
     flag.stiffness.bend = k.number("bend", flag.stiffness.bend, 0, 1e9);
     readSolver(f.child("solver"), flag.solver);
-    readKeys(f.child("constraints"), [&](const std::string& key, const std::string& text, std::string* why) {
-        return cloth::setConstraint(flag.constraints, key, text, why);
-    });
+    readKeys(
+        f.child("constraints"),
+        [&](const std::string& key, double v, std::string* why) { return cloth::setConstraint(flag.constraints, key, v, why); },
+        [&](const std::string& key, const std::string& t, std::string* why) {
+            return cloth::setConstraint(flag.constraints, key, t, why);
+        });
     flag.drag = f.number("drag", flag.drag, 0, 1e3);
     flag.thickness = f.number("thickness", flag.thickness, 0, 1);
     flag.substeps = f.integer("substeps", flag.substeps, 1, 1000);

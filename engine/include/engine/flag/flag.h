@@ -14,8 +14,8 @@
 
 #include "cloth/cloth.h"
 #include "cloth/flag_on_pole.h"
-#include "engine/scene.h"
-#include "engine/trace.h"
+#include "engine/scene/scene.h"
+#include "engine/profile/trace.h"
 
 namespace engine {
 

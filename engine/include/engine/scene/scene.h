@@ -7,7 +7,7 @@
 #include <array>
 #include <string>
 
-#include "engine/render/anti_aliasing.h"
+#include "engine/scene/anti_aliasing.h"
 #include "cloth/air.h"
 #include "cloth/model.h"
 #include "cloth/solver.h"
