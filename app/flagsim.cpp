@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <iostream>
 
-#include "engine/command.h"
-#include "engine/config_error.h"
+#include "engine/scene/command.h"
+#include "engine/scene/config_error.h"
 #include "engine/runtime.h"
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 int main(int argc, char** argv) {
     engine::RunOptions o;
