@@ -12,6 +12,7 @@
 #include "cloth/diagnostics.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 
 namespace {
 
@@ -77,7 +78,7 @@ void report(const Options& o, const cloth::SolverConfig& config, const cloth::Co
     const double median = r.stepsPerSecond[r.stepsPerSecond.size() / 2];
     std::printf("scene            %s %dx%d, k=%g N/m, h=%g s, %d steps x %d repeats\n", o.scene.c_str(), o.nx, o.ny,
                 o.stiffness, o.dt, o.steps, o.repeats);
-    std::printf("solver           %s\n", config.describe().c_str());
+    std::printf("solver           %s\n", describe(config).c_str());
     if (constraints.any()) std::printf("constraints      %s\n", constraints.describe().c_str());
     if (!r.details.empty()) std::printf("                 %s\n", r.details.c_str());
     std::printf("iterations       %.2f per step (mean)\n", double(r.iterations) / o.steps);

@@ -20,8 +20,9 @@
 #include "cloth/air.h"
 #include "cloth/diagnostics.h"
 #include "cloth/presets.h"
-#include "cloth/solvers/multigrid_solver.h"
+#include "cloth/solvers/multigrid_settings.h"
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 #include "cloth/constraints.h"
 #ifdef FLAGSIM_HAS_BULLET_PEER
 #include "peers/bullet_cloth.h"

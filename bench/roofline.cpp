@@ -25,6 +25,7 @@
 #include "cloth/constraints.h"
 #include "cloth/presets.h"
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 #include "cloth/system.h"
 
 namespace {

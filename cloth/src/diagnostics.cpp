@@ -5,7 +5,7 @@
 
 #include "cloth/forces.h"
 #include "cloth/paper_step.h"
-#include "cloth/solvers/exact.h"
+#include "cloth/exact_solve.h"
 
 namespace cloth {
 

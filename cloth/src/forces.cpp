@@ -1,6 +1,6 @@
 #include "cloth/forces.h"
 
-#include "kernels.h"
+#include "spring_terms.h"
 
 namespace cloth {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "cloth/solver.h"
-#include "cloth/solvers/multigrid_solver.h"
+#include "cloth/solvers/multigrid_settings.h"
 #include "physics_support.h"  // solverFor
 
 namespace cloth::test {

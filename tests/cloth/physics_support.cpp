@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cloth/solver_config.h"
+
 namespace cloth::test {
 
 std::unique_ptr<Solver> solverFor(const std::string& spec, const std::function<void(MultigridTuning&)>& tune) {

@@ -11,7 +11,7 @@
 #include <Eigen/Core>
 
 #include "cloth/model.h"
-#include "cloth/solvers/multigrid_solver.h"
+#include "cloth/solvers/multigrid_settings.h"
 #include "cloth/solver.h"
 #include "cloth/system.h"
 

@@ -8,6 +8,8 @@
 #include <string>
 
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
+#include "cloth/solver_config.h"
 
 inline std::unique_ptr<cloth::Solver> solverOf(const std::string& spec) {
     cloth::SolverConfig config;

@@ -9,6 +9,7 @@
 
 #include "cloth/presets.h"
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 
 using namespace cloth;
 

@@ -147,11 +147,11 @@ TEST(SolverConfig, DescribeParsesBackToTheSameConfig) {
         SolverConfig a, b;
         std::string error;
         ASSERT_TRUE(parseSolverConfig(spec, a, &error)) << spec << ": " << error;
-        ASSERT_TRUE(parseSolverConfig(a.describe(), b, &error)) << a.describe() << ": " << error;
-        EXPECT_EQ(a.describe(), b.describe()) << spec;
+        ASSERT_TRUE(parseSolverConfig(describe(a), b, &error)) << describe(a) << ": " << error;
+        EXPECT_EQ(describe(a), describe(b)) << spec;
         // A key that differs from its default is in the text (else two solvers share a label).
         if (std::string(spec).find("precision=") != std::string::npos) {
-            EXPECT_NE(a.describe().find("precision="), std::string::npos) << a.describe();
+            EXPECT_NE(describe(a).find("precision="), std::string::npos) << describe(a);
         }
     }
 }

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cloth/solver_config.h"
 #include "cloth/presets.h"
 #include "tests/kinds/damped_explicit_kind.h"
 
@@ -40,7 +41,7 @@ TEST_F(SolverRegistry, TheParserValidationAndThreadsReadItsKeys) {
     SolverConfig c;
     std::string error;
     ASSERT_TRUE(parseSolverConfig("damped_explicit:damping=0.5,threads=2", c, &error)) << error;
-    EXPECT_EQ(c.describe(), "damped_explicit:damping=0.5,threads=2");
+    EXPECT_EQ(describe(c), "damped_explicit:damping=0.5,threads=2");
     EXPECT_EQ(threadsOf(c), 2);
     EXPECT_FALSE(parseSolverConfig("damped_explicit:damping=1", c, &error));
     EXPECT_EQ(error, "solver 'damped_explicit' parameter damping has a bad value '1' (allowed: [0, 1))");

@@ -4,21 +4,22 @@
 
 #include <gtest/gtest.h>
 
-#include "cloth/solvers/chebyshev.h"
-#include "cloth/solvers/desbrun.h"
-#include "cloth/solvers/exact.h"
-#include "cloth/solvers/explicit.h"
-#include "cloth/solvers/kangcho.h"
-#include "cloth/solvers/multigrid_solver.h"
-#include "cloth/solvers/newton.h"
-#include "cloth/solvers/small_steps.h"
-#include "cloth/solvers/xpbd.h"
+#include "cloth/solvers/chebyshev_settings.h"
+#include "cloth/solvers/desbrun_settings.h"
+#include "cloth/solvers/exact_settings.h"
+#include "cloth/solvers/explicit_settings.h"
+#include "cloth/solvers/kangcho_settings.h"
+#include "cloth/solvers/multigrid_settings.h"
+#include "cloth/solvers/newton_settings.h"
+#include "cloth/solvers/small_steps_settings.h"
+#include "cloth/solvers/xpbd_settings.h"
 
 #include <fstream>
 #include <sstream>
 
 #include "cloth/presets.h"
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 #include "cloth/constraint_settings.h"
 #include "cloth/solver_kind.h"
 
@@ -89,9 +90,9 @@ TEST(SolverTable, EveryKeyParsesPrintsAndReadsBackAndRefusesWhatIsOutOfRange) {
                     continue;
                 }
                 SolverConfig back;
-                ASSERT_TRUE(parseSolverConfig(c.describe(), back, &error)) << c.describe() << ": " << error;
+                ASSERT_TRUE(parseSolverConfig(describe(c), back, &error)) << describe(c) << ": " << error;
                 for (const SolverKey& other : kind.keys)
-                    EXPECT_EQ(other.get(back), other.get(c)) << spec << " -> " << c.describe() << ": " << other.name;
+                    EXPECT_EQ(other.get(back), other.get(c)) << spec << " -> " << describe(c) << ": " << other.name;
                 ++checked;
             }
             for (const std::string& v : badValues(key)) {
@@ -148,7 +149,7 @@ TEST(SolverTable, EveryConstraintParsesPrintsAndReadsBackAndRefusesWhatIsOutOfRa
 }
 
 TEST(SolverTable, ASettingsStructFilledByCodeIsTheConfigTheTextNames) {
-    // Each kind's public settings struct (cloth/solvers/KIND.h) makes the config that its text
+    // Each kind's public settings struct (cloth/solvers/KIND_settings.h) makes the config that its text
     // form makes, field by field through the key table: the same describe(), the same solver.
     const std::pair<SolverConfig, std::string> cases[] = {
         {MultigridSettings{.cycles = 2}, "multigrid:cycles=2"},
@@ -165,7 +166,7 @@ TEST(SolverTable, ASettingsStructFilledByCodeIsTheConfigTheTextNames) {
         SolverConfig parsed;
         std::string error;
         ASSERT_TRUE(parseSolverConfig(text, parsed, &error)) << text << ": " << error;
-        EXPECT_EQ(typed.describe(), parsed.describe()) << text;
+        EXPECT_EQ(describe(typed), describe(parsed)) << text;
         EXPECT_EQ(validate(typed), "") << text;
         EXPECT_TRUE(makeSolver(typed)) << text;
     }

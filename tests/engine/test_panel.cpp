@@ -169,7 +169,7 @@ TEST(Panel, ListsAKindAddedInOneFileAndRunsIt) {
         SDL_PushEvent(&e);
     };
     run(rt, click);
-    EXPECT_EQ(rt.scene().flag.solver.describe(), "damped_explicit:damping=0.01");
+    EXPECT_EQ(cloth::describe(rt.scene().flag.solver), "damped_explicit:damping=0.01");
     EXPECT_TRUE(rt.widgetRect("damping")) << "no field for the kind's key";
     ASSERT_EQ(rt.finish(), 0);
 }

@@ -35,7 +35,7 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     const SceneConfig demo = loadScene(kScenes + "flag_vehicle.json");
     EXPECT_EQ(demo.flag.nx, 33);
     EXPECT_EQ(demo.flag.solver.name, "kangcho");
-    EXPECT_EQ(demo.flag.solver.describe().rfind("kangcho:iterations=1,", 0), 0u);
+    EXPECT_EQ(cloth::describe(demo.flag.solver).rfind("kangcho:iterations=1,", 0), 0u);
     // The HD scene is the same scene with a 65x65 flag.
     SceneConfig hd = loadScene(kScenes + "flag_vehicle_hd.json");
     EXPECT_EQ(hd.flag.nx, 65);
@@ -43,7 +43,7 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     hd.flag.nx = hd.flag.ny = 33;
     hd.name = demo.name;
     hd.description = demo.description;
-    EXPECT_EQ(hd.flag.solver.describe(), demo.flag.solver.describe());
+    EXPECT_EQ(cloth::describe(hd.flag.solver), cloth::describe(demo.flag.solver));
     EXPECT_EQ(hd.subsystems, demo.subsystems);
     // The stiff scene is the same scene with the study's stiffness, its step converged (newton,
     // BDF2) at 60 Hz.
@@ -55,7 +55,7 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     EXPECT_EQ(stiff.flag.stiffness.bend, 1e3);
     // The true motion's integrator made fast, at the demo's rate, its substeps from the bound and
     // paced at 1 cm.
-    EXPECT_EQ(stiff.flag.solver.describe(), "small_steps:substeps=0,max_move=0.01");
+    EXPECT_EQ(cloth::describe(stiff.flag.solver), "small_steps:substeps=0,max_move=0.01");
     EXPECT_EQ(stiff.flag.mass, demo.flag.mass);
     EXPECT_EQ(stiff.physicsHz, 240);
     // Apart from the flag's stiffness, its solver and its air, the same scene as the demo's.
@@ -70,7 +70,7 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     // The true-motion scene is the demo's flag, constraints and all, on small_steps paced at 1 cm
     // per substep: the demo's scene but for the flag's solver.
     const SceneConfig trueMotion = loadScene(kScenes + "flag_vehicle_true_motion.json");
-    EXPECT_EQ(trueMotion.flag.solver.describe(), "small_steps:substeps=0,max_move=0.01");
+    EXPECT_EQ(cloth::describe(trueMotion.flag.solver), "small_steps:substeps=0,max_move=0.01");
     EXPECT_EQ(trueMotion.flag.constraints.describe(), demo.flag.constraints.describe());
     nlohmann::json a = nlohmann::json::parse(std::ifstream(kScenes + "flag_vehicle_true_motion.json"));
     nlohmann::json b = nlohmann::json::parse(std::ifstream(kScenes + "flag_vehicle.json"));
@@ -86,11 +86,11 @@ TEST(Scene, SolverKeysFollowTheSolverTable) {
     // old scene parser lacked (impl, rho) are read, and keys of another solver are refused.
     const std::string base = R"({"subsystems": ["cloth"], "flag": {"solver": )";
     const SceneConfig a = parseScene(base + R"({"name": "kangcho", "impl": "reference", "iterations": 3}}})", "a.json");
-    EXPECT_EQ(a.flag.solver.describe(), "kangcho:iterations=3,impl=reference,compression=on");
+    EXPECT_EQ(cloth::describe(a.flag.solver), "kangcho:iterations=3,impl=reference,compression=on");
     const SceneConfig b = parseScene(base + R"({"name": "chebyshev", "rho": 0.5, "compression": false}}})", "b.json");
-    EXPECT_EQ(b.flag.solver.describe(), "chebyshev:iterations=1,rho=0.5,compression=off");
+    EXPECT_EQ(cloth::describe(b.flag.solver), "chebyshev:iterations=1,rho=0.5,compression=off");
     const SceneConfig c = parseScene(base + R"({"name": "multigrid"}}})", "c.json");
-    EXPECT_EQ(c.flag.solver.describe(), "multigrid:cycles=0,compression=on");
+    EXPECT_EQ(cloth::describe(c.flag.solver), "multigrid:cycles=0,compression=on");
 }
 
 TEST(Scene, MalformedScenesNameFileFieldAndValue) {

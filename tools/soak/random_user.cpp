@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 
 namespace soak {
 

@@ -29,6 +29,7 @@
 #include "cloth/constraints.h"
 #include "cloth/rigid_frame.h"
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 
 namespace cloth {
 

@@ -13,9 +13,6 @@ struct Environment {
     Scalar drag = 0;                   // linear drag rate, 1/s: f_i = -drag m_i v_i (implicit)
 };
 
-// Below this length a spring has no defined direction: force and Jacobian are zero.
-constexpr Scalar kMinSpringLength = 1e-12;
-
 // Eq. 15: force on particle i from spring (i, j): f_i = k (L - l0) u, u = (x_j - x_i) / L.
 // Zero for a spring shorter than kMinSpringLength.
 Vec3 springForce(const Vec3& xi, const Vec3& xj, Scalar k, Scalar rest);

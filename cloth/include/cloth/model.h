@@ -14,6 +14,9 @@ namespace cloth {
 enum class SpringKind : std::uint8_t { Structural = 0, Shear = 1, Bend = 2 };
 const char* toString(SpringKind kind);
 
+// Below this length a spring has no defined direction: force and Jacobian are zero.
+constexpr Scalar kMinSpringLength = 1e-12;
+
 struct Spring {
     Index i = 0, j = 0;
     SpringKind kind = SpringKind::Structural;

@@ -1,12 +1,12 @@
 #pragma once
 // Solvers behind one small interface, chosen by kind with settings. Every kind has its file
 // (src/solvers/KIND.cpp: the solver, its key table, its factory) and its public header
-// (cloth/solvers/KIND.h: its settings struct with its defaults), and registers in the solver
+// (cloth/solvers/KIND_settings.h: its settings struct with its defaults), and registers in the solver
 // registry (cloth/solver_kind.h). A config is made from a settings struct
-// (`SolverConfig(MultigridSettings{.cycles = 2})`) or from text, "name[:key=value,...]", or a
-// scene's JSON through the same keys. The parsers, validation, describe(), the --help text, the
-// README's solver table and the demo's panel are loops over the registry: `solverKindNames()`
-// lists the kinds, `solverHelp()` prints every key. Every implicit kind takes compression=
+// (`SolverConfig(MultigridSettings{.cycles = 2})`), or from text, "name[:key=value,...]", and a
+// scene's JSON through the same keys (solver_config.h: the parsers, validation, describe(),
+// makeSolver, the --help text, the README's solver table and the demo's panel, loops over the
+// registry; `solverKindNames()` lists the kinds). Every implicit kind takes compression=
 // (eq. 17). The corrections after a step (tethers, the stretch limit) are the cloth's
 // constraints, not a solver's keys: Solver::setConstraints (constraints.h).
 // A step never throws and never hands back a non-finite state: on failure the state is left as
@@ -20,13 +20,14 @@
 #include <vector>
 
 #include "cloth/constraints.h"
+#include "cloth/solvers/kangcho_settings.h"
 #include "cloth/system.h"
 
 namespace cloth {
 
 struct SolverConfig {
-    SolverConfig();  // the paper's step: kangcho at its defaults
-    // A kind's settings struct (cloth/solvers/KIND.h), which names its kind.
+    SolverConfig() : settings(KangchoSettings{}) {}  // the paper's step: kangcho at its defaults
+    // A kind's settings struct (cloth/solvers/KIND_settings.h), which names its kind.
     template <class S>
         requires requires { S::kKind; }
     SolverConfig(S settings, bool compression = true)
@@ -40,39 +41,7 @@ struct SolverConfig {
     const S& get() const { return std::any_cast<const S&>(settings); }
     template <class S>
     S& get() { return std::any_cast<S&>(settings); }
-    // "name:key=value,..." with the keys that differ from the kind's defaults (and those the
-    // table always shows); parseSolverConfig reads it back to the same config.
-    std::string describe() const;
 };
-
-// Parses "name[:key=value[,key=value...]]". Returns false and sets *error (naming the key and
-// value) on an unknown name, unknown key or bad value.
-bool parseSolverConfig(std::string_view spec, SolverConfig& out, std::string* error);
-// The defaults of a kind (false and *error for an unknown name).
-bool defaultSolverConfig(std::string_view name, SolverConfig& out, std::string* error);
-// Sets one key from its text ("2", "1e-3", "on", "float"), with the same rules as the parser;
-// on failure `config` is unchanged and *error names the key, the value and the allowed range.
-bool setSolverParameter(SolverConfig& config, std::string_view key, std::string_view value, std::string* error);
-// The same from a number (a scene's JSON number): an integer key takes whole numbers only; a
-// choice key takes no number.
-bool setSolverParameter(SolverConfig& config, std::string_view key, double value, std::string* error);
-// Checks a config's ranges; returns an empty string when valid, else what is wrong.
-std::string validate(const SolverConfig& config);
-// The solver table as data for a user interface (the demo's panel): the kinds, and each key of a
-// config's kind with its row and its value.
-struct SolverKeyInfo {
-    enum class Type { Integer, Real, Choice };
-    std::string name, doc;
-    Type type = Type::Integer;
-    std::string range;                 // "[0, 100000]", "fast|gather|reference"
-    std::vector<std::string> choices;  // Choice: the allowed words
-    double value = 0;                  // Choice: the index of the word
-};
-std::vector<std::string> solverKindNames();
-std::vector<SolverKeyInfo> solverKeys(const SolverConfig& config);
-// Every kind with its keys: plain text for --help, or a Markdown table for the README.
-std::string solverHelp();
-std::string solverTableMarkdown();
 
 enum class StepStatus { Ok, NonFinite, SolverFailed };
 const char* toString(StepStatus status);
@@ -119,7 +88,7 @@ public:
     ThreadPool& threadPool() const { return *pool_; }
 
 protected:
-    Solver() = default;  // solvers are made by makeSolver, which sets config_ first
+    Solver() = default;  // solvers are made by createSolver (solver_kind.h), which sets config_ first
     template <class S>
     const S& settings() const { return config_.get<S>(); }
     SolverConfig config_;
@@ -131,20 +100,5 @@ protected:
     template <class T>
     friend std::unique_ptr<Solver> createSolver(const SolverConfig& config);
 };
-
-// The threads= setting of the config's kind (1 for the kinds without one).
-int threadsOf(const SolverConfig& config);
-
-// A solver of class T holding `config` (used by the solver table's factories).
-template <class T>
-std::unique_ptr<Solver> createSolver(const SolverConfig& config) {
-    std::unique_ptr<Solver> solver(new T());
-    solver->config_ = config;
-    solver->pool_ = std::make_shared<ThreadPool>(threadsOf(config));
-    return solver;
-}
-
-// Returns null and sets *error for an invalid config.
-std::unique_ptr<Solver> makeSolver(const SolverConfig& config, std::string* error = nullptr);
 
 }  // namespace cloth

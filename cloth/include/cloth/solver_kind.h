@@ -6,7 +6,7 @@
 //
 // A kind lives in one file: its key table and its factory, returned by a function the file
 // defines with FLAGSIM_SOLVER_KIND(name), beside its public settings struct
-// (cloth/solvers/KIND.h). The library's kinds are listed by one line each in
+// (cloth/solvers/KIND_settings.h). The library's kinds are listed by one line each in
 // cloth/CMakeLists.txt (cloth_solver_kind(name file)), which generates the list that registers
 // them in that order; a program can add its own with registerSolverKind (the study's Bullet
 // peer, the tests' damped_explicit), its step ending in commitStep (step_commit.h).
@@ -60,6 +60,18 @@ std::vector<SolverKey> withCommon(std::vector<SolverKey> own, bool implicit);
 template <class S>
 SolverKey threadsKey() {
     return SolverKeys::integer("threads", &S::threads, 1, 64, "worker threads (bit-identical results for any count)");
+}
+
+// The threads= setting of the config's kind (1 for the kinds without one).
+int threadsOf(const SolverConfig& config);
+
+// A solver of class T holding `config` (the kinds' factories).
+template <class T>
+std::unique_ptr<Solver> createSolver(const SolverConfig& config) {
+    std::unique_ptr<Solver> solver(new T());
+    solver->config_ = config;
+    solver->pool_ = std::make_shared<ThreadPool>(threadsOf(config));
+    return solver;
 }
 
 }  // namespace cloth

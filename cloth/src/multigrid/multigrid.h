@@ -19,7 +19,7 @@
 #include <string>
 
 #include "block_matrix.h"
-#include "cloth/solvers/multigrid_solver.h"
+#include "cloth/solvers/multigrid_settings.h"
 #include "cloth/solver.h"
 #include "cloth/thread_pool.h"
 

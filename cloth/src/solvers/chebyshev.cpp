@@ -1,4 +1,4 @@
-#include "cloth/solvers/chebyshev.h"
+#include "cloth/solvers/chebyshev_settings.h"
 #include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 

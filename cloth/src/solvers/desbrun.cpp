@@ -1,7 +1,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "kernels.h"
-#include "cloth/solvers/desbrun.h"
+#include "cloth/solvers/desbrun_settings.h"
 #include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 

@@ -1,4 +1,4 @@
-#include "cloth/solvers/explicit.h"
+#include "cloth/solvers/explicit_settings.h"
 #include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 

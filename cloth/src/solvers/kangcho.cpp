@@ -5,7 +5,7 @@
 
 #include "kangcho/gather.h"
 #include "cloth/paper_step.h"
-#include "cloth/solvers/kangcho.h"
+#include "cloth/solvers/kangcho_settings.h"
 #include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 #include "kangcho/stencil.h"

@@ -8,7 +8,7 @@
 
 #include "multigrid/multigrid.h"
 #include "cloth/solver_kind.h"
-#include "cloth/solvers/exact.h"
+#include "cloth/solvers/exact_settings.h"
 #include "solvers/step_common.h"
 
 namespace cloth {

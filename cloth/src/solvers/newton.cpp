@@ -12,7 +12,7 @@
 // StepInput::damping, linear in v about v_n.
 
 #include "nonlinear/newton.h"
-#include "cloth/solvers/newton.h"
+#include "cloth/solvers/newton_settings.h"
 #include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 

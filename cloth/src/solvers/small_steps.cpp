@@ -17,7 +17,7 @@
 #include "cloth/air.h"
 #include "cloth/collision.h"
 #include "cloth/diagnostics.h"
-#include "cloth/solvers/small_steps.h"
+#include "cloth/solvers/small_steps_settings.h"
 #include "cloth/solver_kind.h"
 #include "small_steps/collisions.h"
 #include "small_steps/kernels.h"

@@ -10,7 +10,7 @@
 // and columns of structural springs are each projected at once first (xpbd_chains.h). Then
 // v = (x - x_n) / h. The passes run in a fixed order on one thread: the same bits for any caller.
 
-#include "cloth/solvers/xpbd.h"
+#include "cloth/solvers/xpbd_settings.h"
 #include "cloth/solver_kind.h"
 #include "solvers/step_common.h"
 #include "solvers/xpbd_chains.h"

@@ -15,7 +15,7 @@ int Runtime::finish() {
     RunFacts f;
     f.scene = m.scene.name;
     f.subsystems = describeSubsystems(m.scene.subsystems);
-    f.solver = (m.scene.subsystems & kCloth) ? m.scene.flag.solver.describe() : "";
+    f.solver = (m.scene.subsystems & kCloth) ? cloth::describe(m.scene.flag.solver) : "";
     f.antiAliasing = m.view ? m.view->antiAliasing() : "";
     f.script = m.script ? (m.opt.scriptPath.empty() ? m.scene.script : m.opt.scriptPath) : "";
     f.frames = m.frame;

@@ -45,7 +45,7 @@ int runOnce(const SceneConfig& scene, const RunOptions& options, std::string* ne
                 rt.frameIndex(), rt.simTime(), std::chrono::duration<double>(Clock::now() - t0).count());
     if (rt.flag()) {
         std::printf("cloth: %lld steps, solver %s, max pin error %.3g m, %d failed steps\n",
-                    rt.flag()->steps(), scene.flag.solver.describe().c_str(), rt.maxPinError(),
+                    rt.flag()->steps(), cloth::describe(scene.flag.solver).c_str(), rt.maxPinError(),
                     rt.flag()->failures());
         if (rt.flag()->failures())
             std::printf("cloth: first failure: %s\n", rt.flag()->firstFailure().c_str());

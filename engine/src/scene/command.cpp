@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 
 namespace engine {
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 #include "ui/panel_types.h"
 
 struct ImGuiContext;

@@ -41,7 +41,7 @@ bool Panel::editNumber(const std::string& label, double current,
 void Panel::drawRun(const PanelState& s) {
     ImGui::Text("%s   t = %.2f s%s", s.scene.c_str(), s.simTime, s.paused ? "   (paused)" : "");
     ImGui::TextDisabled("anti-aliasing: %s", s.antiAliasing.c_str());
-    if (s.hasFlag) ImGui::TextWrapped("solver %s", s.solver.describe().c_str());
+    if (s.hasFlag) ImGui::TextWrapped("solver %s", cloth::describe(s.solver).c_str());
     if (!interactive_) return;
     if (s.switchNote.empty()) {
         if (ImGui::BeginCombo("scene", s.scene.c_str())) {
@@ -71,7 +71,7 @@ void Panel::drawRun(const PanelState& s) {
 }
 
 void Panel::emitSolver(const cloth::SolverConfig& config) {
-    emit({"solver", config.describe()});
+    emit({"solver", cloth::describe(config)});
     error_.clear();
 }
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 
 namespace study {
 

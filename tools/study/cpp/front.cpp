@@ -119,7 +119,7 @@ private:
                        const ExtremeRun& ref, double traj, const char* timing) const {
         Line l;
         l.integer(index).text(flagName(flag_)).text(x_.name).integer(size_).text(c.name);
-        l.quoted(c.referenceFactor > 0 ? "reference" : s.flag.solver.describe()).quoted(s.flag.constraints.describe());
+        l.quoted(c.referenceFactor > 0 ? "reference" : cloth::describe(s.flag.solver)).quoted(s.flag.constraints.describe());
         l.integer(s.physicsHz).integer(s.flag.substeps).integer(r.stable ? 1 : 0).integer(r.failures);
         l.number(r.msPerTick).number(r.msPerTick * s.physicsHz / 60).text(timing).number(traj);
         l.number(r.p99Stretch).number(r.peakStretch).number(r.maxStretch).number(r.lateStretch).number(r.patchEnergyLate[0]);

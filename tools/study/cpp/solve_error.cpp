@@ -7,6 +7,7 @@
 #include <fstream>
 #include <memory>
 
+#include "cloth/solver_config.h"
 #include "cloth/diagnostics.h"
 #include "peers/bullet_cloth.h"
 #include "specs.h"

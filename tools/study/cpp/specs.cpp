@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "cloth/solver_config.h"
+
 namespace study {
 
 cloth::SolverConfig configOf(const std::string& spec, void (*tune)(cloth::MultigridTuning&)) {

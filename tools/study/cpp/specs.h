@@ -6,7 +6,7 @@
 #include <string>
 
 #include "cloth/constraints.h"
-#include "cloth/solvers/multigrid_solver.h"
+#include "cloth/solvers/multigrid_settings.h"
 #include "cloth/solver.h"
 
 namespace study {

@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 #include "extreme_cases.h"
 
 namespace study {

@@ -11,6 +11,7 @@
 #include "cloth/air.h"
 #include "cloth/model.h"
 #include "cloth/solver.h"
+#include "cloth/solver_config.h"
 #include "engine/assets/model_placement.h"
 
 namespace engine {

@@ -3,8 +3,6 @@
 // filled in by code (`SolverConfig(ExactSettings{...})`) or from text and JSON through the kind's keys,
 // each documented once in its key table (`cloth_run --solver-table` prints them).
 
-#include "cloth/system.h"
-
 namespace cloth {
 
 struct ExactSettings {
@@ -15,10 +13,5 @@ struct ExactSettings {
     int maxIterations = 10000;
     int iterations = 0;  // cg only: a fixed count, an approximation (never fails for not converging)
 };
-
-// The exact solution of the system: sparse Cholesky with iterative refinement. Returns false when
-// the factorization fails or the relative residual stays over `tolerance`.
-bool solveExact(const Model& model, const LinearSystem& sys, Points& dv, Scalar* residual = nullptr,
-                Scalar tolerance = 1e-10);
 
 }  // namespace cloth

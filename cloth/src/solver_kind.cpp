@@ -38,6 +38,15 @@ bool registerSolverKind(SolverKind kind, std::string* error) {
     return true;
 }
 
+int threadsOf(const SolverConfig& config) {
+    const SolverKind* kind = findSolverKind(config.name);
+    const SolverKey* threads = nullptr;
+    if (kind)
+        for (const SolverKey& key : kind->keys)
+            if (std::string_view(key.name) == "threads") threads = &key;
+    return threads ? int(threads->get(config)) : 1;
+}
+
 SolverConfig defaultsOf(const SolverKind& kind) {
     SolverConfig c;
     c.name = kind.name;
