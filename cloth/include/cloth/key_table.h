@@ -2,7 +2,7 @@
 // A key table: the rows of a settings object's keys (name, type, range, default, one line of doc)
 // and how to read and write each one's field, with the generic work on them: reading a value from
 // text, checking its range, printing it back, and a row of --help or of the README's table. The
-// solver kinds' keys (solver_registry.h) and the cloth's constraints' keys (constraint_keys.cpp)
+// solver kinds' keys (solver_kind.h) and the cloth's constraints' keys (constraint_settings.h)
 // are such tables.
 
 #include <functional>

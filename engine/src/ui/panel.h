@@ -2,7 +2,7 @@
 // The live panel, drawn with Dear ImGui over the scene: the scene and the flag's settings as
 // widgets, and live graphs (the frame's phases over the last seconds, the flag's stretch, the
 // solver's iterations), as the field's sample browsers show them. A widget never changes the
-// scene itself: it makes a Command (engine/command.h), which the runtime applies at the next
+// scene itself: it makes a Command (engine/scene/command.h), which the runtime applies at the next
 // frame's start and records, so a live session replays to identical frames. Switching scene or
 // restarting is a request to the runner (a new run), not a command.
 //

@@ -10,6 +10,7 @@
 // Newton's harness instead (nvidia_newton_export.h).
 
 #include <chrono>
+#include <unistd.h>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -86,13 +87,13 @@ bool chooseFlags(const std::vector<std::string>& names, std::vector<FlagKind>& o
     return true;
 }
 
-// The paths: the demo's drive, the extreme cases (--quick: the drive, the 10 g stop and the gale),
-// then the teleports of --teleports.
+// The paths: the demo's drive, the extreme cases (--quick: the drive and the 10 g stop), then the
+// teleports of --teleports.
 std::vector<Extreme> pathsOf(const StudyOptions& o, const engine::SceneConfig& demo) {
     std::vector<Extreme> paths = {driveCase(demo)};
     for (const Extreme& x : extremes()) paths.push_back(x);
     if (o.quick && o.pathFilter.empty())
-        std::erase_if(paths, [](const Extreme& x) { return x.name != "drive" && x.name != "stop_10g" && x.name != "gale_40mps"; });
+        std::erase_if(paths, [](const Extreme& x) { return x.name != "drive" && x.name != "stop_10g"; });
     for (double metres : o.teleports) paths.push_back(teleport(metres));
     return paths;
 }
@@ -111,10 +112,18 @@ int planFront(const StudyOptions& o, FrontWork& w) {
     std::string unknown;
     if (!chooseByName(w.configs, o.configFilter, unknown)) return usageError("--configs: unknown configuration '" + unknown + "'");
     if (!chooseFlags(o.flagFilter, w.flagKinds, unknown)) return usageError("--flags: unknown flag '" + unknown + "'");
+    if (o.quick && o.flagFilter.empty()) w.flagKinds = {FlagKind::Demo};  // the demo's flag: the paper's step
     w.paths = pathsOf(o, w.flags.demo);
     if (!chooseByName(w.paths, o.pathFilter, unknown)) return usageError("--paths: unknown path '" + unknown + "'");
     w.sizes = !o.frontSizes.empty() ? o.frontSizes : o.quick ? std::vector<int>{33} : std::vector<int>{33, 65};
     return -1;
+}
+
+// The rows this run will write: part 1's and the front's that are this shard's.
+long plannedRows(const StudyOptions& o, const std::vector<SolveErrorConfig>& configs, const FrontPlan& plan) {
+    WorkItems work{o.shard, o.shards};
+    const long part1 = solveErrorRows(o, configs, work);
+    return part1 + (o.front ? frontRows(plan, work) : 0);
 }
 
 }  // namespace
@@ -128,18 +137,22 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(o.out);
     if (o.front && !pathsDriveTheFlag(w.flags.demo, w.paths, o.exportDir.empty() ? o.out + "/extreme_cases.csv" : ""))
         return 1;
-    const auto t0 = Clock::now();
     const SolveErrorScenes scenes;
     std::vector<SolveErrorConfig> configs = solveErrorConfigs(o, scenes);
     if (!o.exportDir.empty()) return exportForNvidiaNewton(o, configs, w.flags.demo, w.paths, w.sizes);
     if (o.frontOnly) configs.clear();
+    const FrontPlan plan{o, w.flags, w.flagKinds, w.paths, w.sizes, w.configs};
     WorkItems work{o.shard, o.shards};
-    const long configRows = runSolveError(o, configs, work);
-    const long frontRows = o.front ? runFront(o, w.flags, w.flagKinds, w.paths, w.sizes, w.configs, work) : 0;
+    ReferenceCache cache(o.cacheDir);
+    Progress progress(plannedRows(o, configs, plan), isatty(fileno(stderr)) && !o.progressLines);
+    const long configRows = runSolveError(o, configs, work, progress);
+    const long frontRows = o.front ? runFront(plan, work, cache, progress) : 0;
     writeShardInfo(o, configRows, frontRows);
     std::string written = o.frontOnly ? "" : o.out + "/error_vs_runtime.csv";
     if (o.front) written += (written.empty() ? "" : ", ") + o.out + "/front.csv";
-    std::fprintf(stderr, "\nstudy done in %.0f s: %s\n", std::chrono::duration<double>(Clock::now() - t0).count(),
-                 written.c_str());
+    const CacheCounts& c = cache.counts();
+    progress.finish("references: " + std::to_string(c.reused) + " reused, " + std::to_string(c.computed) + " computed" +
+                    (c.refused ? ", " + std::to_string(c.refused) + " refused" : "") +
+                    (cache.on() ? " (cache " + o.cacheDir + ")" : " (no cache)") + "; " + written);
     return 0;
 }

@@ -1,11 +1,13 @@
 #include "front.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <optional>
 
 #include "bounds.h"
+#include "reference_cache.h"
 #include "specs.h"
 
 namespace study {
@@ -61,9 +63,12 @@ std::string windowsOf(const ExtremeRun& r) {
 // One group of rows: a path, a size and a flag, with that flag's reference computed once.
 class FrontGroup {
 public:
-    FrontGroup(const Flags& flags, const Extreme& x, int size, FlagKind flag, const StudyOptions& o)
+    FrontGroup(const Flags& flags, const Extreme& x, int size, FlagKind flag, const StudyOptions& o, ReferenceCache& cache)
         : flags_(flags), x_(x), size_(size), flag_(flag), trajectories_(o.trajectories && size <= o.trajectoryMaxSide),
-          references_(o.references) {}
+          references_(o.references), cache_(cache) {}
+
+    // This group's rows start with "FLAG PATH SIZE".
+    std::string label() const { return std::string(flagName(flag_)) + " " + x_.name + " " + std::to_string(size_); }
 
     std::string row(long index, const Configuration& c, const char* timing) {
         const engine::SceneConfig s = sceneOf(c);
@@ -105,8 +110,13 @@ private:
         return r;
     }
 
+    // The flag's reference on this path: from the cache, or run and stored there.
     const ExtremeRun& reference() {
-        if (!reference_) reference_ = runExtreme(sceneOf({.referenceFactor = 1}), extremeMount(flags_.demo), x_, trajectories_);
+        if (reference_) return *reference_;
+        const engine::SceneConfig s = sceneOf({.referenceFactor = 1});
+        const engine::PoleMount mount = extremeMount(flags_.demo);
+        const std::string key = referenceKey(s, mount, x_, trajectories_, integratorVersion());
+        reference_ = cache_.get(key, [&] { return runExtreme(s, mount, x_, trajectories_); });
         return *reference_;
     }
 
@@ -135,8 +145,16 @@ private:
     int size_;
     FlagKind flag_;
     bool trajectories_, references_;
+    ReferenceCache& cache_;
     std::optional<ExtremeRun> reference_;
 };
+
+// What the cache did for the rows just run: "reference reused", "reference computed", or "".
+std::string cacheNote(const CacheCounts& before, const CacheCounts& after) {
+    if (after.reused > before.reused) return "reference reused";
+    if (after.computed > before.computed) return after.refused > before.refused ? "reference refused, recomputed" : "reference computed";
+    return {};
+}
 
 }  // namespace
 
@@ -156,24 +174,49 @@ bool pathsDriveTheFlag(const engine::SceneConfig& demo, const std::vector<Extrem
     return idle.empty();
 }
 
-long runFront(const StudyOptions& o, const Flags& flags, const std::vector<FlagKind>& flagKinds,
-              const std::vector<Extreme>& paths, const std::vector<int>& sizes,
-              const std::vector<Configuration>& configs, WorkItems& work) {
+namespace {
+
+// fn(row, group, configuration) for every row of the front, in the serial order.
+template <class Fn>
+void forEachRow(const FrontPlan& plan, ReferenceCache& cache, Fn fn) {
+    long row = -1;
+    for (const Extreme& x : plan.paths)
+        for (const int size : plan.sizes)
+            for (const FlagKind flag : plan.flagKinds) {
+                FrontGroup group(plan.flags, x, size, flag, plan.options, cache);
+                for (const Configuration& c : plan.configs)
+                    if (c.runsOn(flag, size)) fn(++row, group, c);
+            }
+}
+
+}  // namespace
+
+long frontRows(const FrontPlan& plan, WorkItems work) {
+    ReferenceCache none;
+    long mine = 0;
+    forEachRow(plan, none, [&](long, FrontGroup&, const Configuration&) { mine += work.mine(); });
+    return mine;
+}
+
+long runFront(const FrontPlan& plan, WorkItems& work, ReferenceCache& cache, Progress& progress) {
+    const StudyOptions& o = plan.options;
     std::ofstream csv(o.out + "/front.csv");
     csv << kHeader;
     const char* timing = o.parallel ? "parallel" : "serial";
-    long row = -1;
-    for (const Extreme& x : paths)
-        for (const int size : sizes)
-            for (const FlagKind flag : flagKinds) {
-                FrontGroup group(flags, x, size, flag, o);
-                for (const Configuration& c : configs) {
-                    if (!c.runsOn(flag, size)) continue;
-                    ++row;
-                    if (work.mine()) csv << group.row(row, c, timing) << std::flush;
-                }
-            }
-    return row + 1;
+    long rows = 0;
+    forEachRow(plan, cache, [&](long row, FrontGroup& group, const Configuration& c) {
+        rows = row + 1;
+        if (!work.mine()) return;
+        const std::string what = group.label() + " " + c.name;
+        progress.begin(what);
+        const CacheCounts before = cache.counts();
+        const auto t0 = std::chrono::steady_clock::now();
+        csv << group.row(row, c, timing) << std::flush;
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const std::string note = cacheNote(before, cache.counts());
+        progress.done(1, what, clockText(seconds) + (note.empty() ? "" : ", " + note));
+    });
+    return rows;
 }
 
 }  // namespace study

@@ -16,6 +16,8 @@
 #include "engine/scene/scene.h"
 #include "extreme_cases.h"
 #include "extreme_runs.h"
+#include "progress.h"
+#include "reference_cache.h"
 #include "study_options.h"
 #include "work_items.h"
 
@@ -32,10 +34,22 @@ struct Flags {
 // when a path drives nothing.
 bool pathsDriveTheFlag(const engine::SceneConfig& demo, const std::vector<Extreme>& paths, const std::string& csv);
 
+// What the front runs: its options, the two flags' scenes, the flags, paths, sizes and
+// configurations.
+struct FrontPlan {
+    const StudyOptions& options;
+    const Flags& flags;
+    const std::vector<FlagKind>& flagKinds;
+    const std::vector<Extreme>& paths;
+    const std::vector<int>& sizes;
+    const std::vector<Configuration>& configs;
+};
+
 // Writes OUT/front.csv: each path x size x flag x configuration a row, the rows of the work items
-// this shard holds; returns the whole run's number of rows.
-long runFront(const StudyOptions& o, const Flags& flags, const std::vector<FlagKind>& flagKinds,
-              const std::vector<Extreme>& paths, const std::vector<int>& sizes,
-              const std::vector<Configuration>& configs, WorkItems& work);
+// this shard holds, each told to `progress` as it is done; each group's reference from `cache`.
+// Returns the whole run's number of rows.
+long runFront(const FrontPlan& plan, WorkItems& work, ReferenceCache& cache, Progress& progress);
+// The rows of the front that runFront would run for `work`'s shard, starting where it stands.
+long frontRows(const FrontPlan& plan, WorkItems work);
 
 }  // namespace study

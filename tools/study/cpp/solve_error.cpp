@@ -239,7 +239,7 @@ void runConfig(const StudyOptions& o, const SolveErrorConfig& c, const std::vect
 std::vector<SolveErrorConfig> solveErrorConfigs(const StudyOptions& o, const SolveErrorScenes& scenes) {
     std::vector<SolveErrorConfig> configs;
     const std::vector<int> sizes = !o.sizeOverride.empty() ? o.sizeOverride
-                                   : o.quick               ? std::vector<int>{17, 33}
+                                   : o.quick               ? std::vector<int>{17}
                                                            : std::vector<int>{17, 33, 65, 129};
     auto wanted = [&](const Scene* s) {
         return o.sceneFilter.empty() || std::find(o.sceneFilter.begin(), o.sceneFilter.end(), s->name) != o.sceneFilter.end();
@@ -252,14 +252,24 @@ std::vector<SolveErrorConfig> solveErrorConfigs(const StudyOptions& o, const Sol
                 configs.push_back({s, n, 1e4, 1.0 / 240});
     if (o.scan && wanted(hanging))
         for (double k : o.quick ? std::vector<double>{1e1, 1e3, 1e5} : std::vector<double>{1e1, 1e2, 1e3, 1e4, 1e5, 1e6})
-            for (double h : o.quick ? std::vector<double>{1.0 / 1000, 1.0 / 60, 1.0 / 15}
+            for (double h : o.quick ? std::vector<double>{1.0 / 60, 1.0 / 15}
                                     : std::vector<double>{1.0 / 1000, 1.0 / 240, 1.0 / 60, 1.0 / 30, 1.0 / 15})
                 if (!(k == 1e4 && h == 1.0 / 240)) configs.push_back({hanging, 17, k, h});  // already above
     return configs;
 }
 
-long runSolveError(const StudyOptions& o, const std::vector<SolveErrorConfig>& configs, WorkItems& work) {
-    const auto t0 = Clock::now();
+long solveErrorRows(const StudyOptions& o, const std::vector<SolveErrorConfig>& configs, WorkItems& work) {
+    const std::vector<Method> methods = methodsOf(o);
+    long mine = 0;
+    for (const SolveErrorConfig& c : configs) {
+        const long rows = long(methodsFor(c, methods).size());
+        if (work.mine()) mine += rows;
+    }
+    return mine;
+}
+
+long runSolveError(const StudyOptions& o, const std::vector<SolveErrorConfig>& configs, WorkItems& work,
+                   Progress& progress) {
     const std::vector<Method> methods = methodsOf(o);
     std::ofstream csv(o.out + (o.frontOnly ? "/unused.csv" : "/error_vs_runtime.csv"));
     csv << "row,scene,size,stiffness,h,family,solver,ms_per_step,timing,solve_error,traj_error_be,traj_error_fine,"
@@ -270,9 +280,13 @@ long runSolveError(const StudyOptions& o, const std::vector<SolveErrorConfig>& c
         const long firstRow = row + 1;
         row += long(todo.size());
         if (!work.mine()) continue;
+        char what[160];
+        std::snprintf(what, sizeof what, "solve error: %s %dx%d k=%g h=%g, %zu solvers", c.scene->name.c_str(), c.n, c.n,
+                      c.k, c.h, todo.size());
+        progress.begin(what);
+        const auto t0 = Clock::now();
         runConfig(o, c, todo, firstRow, csv);
-        std::fprintf(stderr, "\r%s %dx%d k=%g h=%g done (%.0f s)      ", c.scene->name.c_str(), c.n, c.n, c.k, c.h,
-                     std::chrono::duration<double>(Clock::now() - t0).count());
+        progress.done(long(todo.size()), what, clockText(std::chrono::duration<double>(Clock::now() - t0).count()));
     }
     return row + 1;
 }

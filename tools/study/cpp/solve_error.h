@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "pole_paths.h"
+#include "progress.h"
 #include "study_options.h"
 #include "work_items.h"
 
@@ -43,6 +44,9 @@ inline double solveErrorDuration(const StudyOptions& o) { return o.quick ? 0.5 :
 
 // Writes OUT/error_vs_runtime.csv (OUT/unused.csv with --front-only): the rows of the
 // configurations this shard holds; returns the whole run's number of rows.
-long runSolveError(const StudyOptions& o, const std::vector<SolveErrorConfig>& configs, WorkItems& work);
+long runSolveError(const StudyOptions& o, const std::vector<SolveErrorConfig>& configs, WorkItems& work,
+                   Progress& progress);
+// The rows of part 1 that this shard runs; advances `work` past part 1's items.
+long solveErrorRows(const StudyOptions& o, const std::vector<SolveErrorConfig>& configs, WorkItems& work);
 
 }  // namespace study

@@ -19,8 +19,10 @@ on a hanging flag and on a flag following the demo's vehicle path, and a scan ov
 time step (error_vs_runtime.csv). The front: the demo's flag and the stiff flag on the demo's drive
 and in six extreme cases, every configuration against the flag's fine-step reference (front.csv).
 
-  --quick              small: part 1 at sizes 17 and 33 (three stiffnesses and steps, 0.5 s); the
-                       front at 33x33 on the drive and two extreme cases, a few configurations
+  --quick              small: part 1 at size 17 (three stiffnesses, two more steps, 0.5 s); the
+                       front with the demo's flag at 33x33 on the drive and the 10 g stop: its
+                       reference, the paper's step as shipped, the true motion (small_steps_paced)
+                       and one cheap configuration of each other family
   --out DIR            where the CSV files go (default out/study)
   --scenes LIST        part 1: comma-separated subset of hanging_flag, vehicle_path
   --sizes LIST         part 1: comma-separated grid sides, e.g. 17,33,65,129
@@ -56,6 +58,11 @@ and in six extreme cases, every configuration against the flag's fine-step refer
                        every path and size of the front (--quick: the teleport), as JSON for NVIDIA
                        Newton's harness (tools/study/study.py nvidia-newton), then stop
   --parallel           mark the timing columns as taken while other shards ran (timing=parallel)
+  --cache-dir DIR      where the front's references are kept and reused (default out/study-cache
+                       in the source tree): each under a key of everything that determines it,
+                       recomputed when any of it changes, refused and recomputed when corrupt
+  --no-cache           compute every reference, reuse and store none
+  --progress-lines     a progress line per row even on a terminal (else one line updated in place)
   --help               this text
 )";
 
@@ -96,6 +103,7 @@ int readValueOption(const std::string& a, const char* value, StudyOptions& o) {
     else if (a == "--add-configs") o.extraConfigs = split(value, ';');
     else if (a == "--demo-scene") o.demoScenePath = value;
     else if (a == "--out") o.out = value;
+    else if (a == "--cache-dir") o.cacheDir = value;
     else if (a == "--trajectories-up-to") {
         std::vector<int> side;
         if (const std::string bad = readSides(a, value, 5, 257, side); !bad.empty() || side.size() != 1)
@@ -149,6 +157,8 @@ int parseOptions(int argc, char** argv, StudyOptions& o) {
         else if (a == "--no-trajectories") o.trajectories = false;
         else if (a == "--no-references") o.references = o.trajectories = false;
         else if (a == "--parallel") o.parallel = true;
+        else if (a == "--no-cache") o.cacheDir.clear();
+        else if (a == "--progress-lines") o.progressLines = true;
         else if (i + 1 >= argc) return usageError("unknown or incomplete option '" + a + "'");
         else if (const int code = readValueOption(a, argv[++i], o); code >= 0) return code;
     }

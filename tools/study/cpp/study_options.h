@@ -16,6 +16,8 @@ struct StudyOptions {
     std::string out = "out/study", exportDir, demoScenePath = "flag_vehicle";
     std::vector<std::string> sceneFilter, solverSpecs, configFilter, pathFilter, flagFilter, extraConfigs;
     std::vector<double> teleports;  // more teleport paths, by the jump in m (--teleports)
+    std::string cacheDir = FLAGSIM_STUDY_CACHE_DIR;  // the references' cache (--cache-dir; --no-cache: "")
+    bool progressLines = false;  // a line per row even on a terminal (--progress-lines)
 };
 
 // Reads the command line into `o`. Returns -1 to go on, else the exit code: 0 after --help, 2 for

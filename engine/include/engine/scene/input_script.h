@@ -9,7 +9,7 @@
 //                    ... ],
 //     "events": [ { "frame": 120, "command": "solver", "value": "multigrid" }, ... ] }
 // Times strictly increasing from >= 0; throttle and steer in [-1, 1]; brake and handbrake in
-// [0, 1]. Absent action fields are 0. Events (optional; engine/command.h) are applied at the
+// [0, 1]. Absent action fields are 0. Events (optional; engine/scene/command.h) are applied at the
 // start of their frame, in the order listed; frames do not decrease.
 
 #include <string>
