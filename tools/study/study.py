@@ -18,6 +18,7 @@ COMMANDS = {
     "front-table": ("front_table", "main", "DIR [--matrix F S|--update MD...]", "the front's Markdown tables"),
     "merge-shards": ("merge_shards", "main", "OUT SHARD_DIR...", "cloth_study --shard parts joined"),
     "compare-runs": ("compare_runs", "main", "DIR_A DIR_B", "two runs agree but for the timings"),
+    "evidence": ("evidence", "main", "RUN_DIR [DOCS_DIR]", "a run's rows equal the committed ones"),
     "nvidia-newton": ("nvidia_newton_study", "main", "IN_DIR OUT_CSV [...]", "NVIDIA Newton's solvers (a venv)"),
 }
 OWN_HELP = {"nvidia-newton"}  # commands that answer --help themselves; the others print their module's text

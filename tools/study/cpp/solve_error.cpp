@@ -226,8 +226,8 @@ void runConfig(const StudyOptions& o, const SolveErrorConfig& c, const std::vect
         if (big && m.spec == "exact") m.spec = "exact:method=multigrid";
         const Row r = runOne(*c.scene, c.n, c.k, c.h, m, duration, ref, fine, fineRef, 16);
         char line[600];
-        std::snprintf(line, sizeof line, "%ld,%s,%d,%g,%g,%s,\"%s\",%.5g,%s,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%d,%d\n",
-                      firstRow + long(mi), r.scene.c_str(), r.size, r.k, r.h, r.family.c_str(), r.solver.c_str(),
+        std::snprintf(line, sizeof line, "%ld,%s,%d,%g,%g,%g,%s,\"%s\",%.5g,%s,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%d,%d\n",
+                      firstRow + long(mi), r.scene.c_str(), r.size, r.k, r.h, duration, r.family.c_str(), r.solver.c_str(),
                       r.ms, timing, r.solveErr, r.trajBE, r.trajFine, r.maxStretch, r.p99Stretch, r.energyGrowth,
                       r.stable ? 1 : 0, r.failStep);
         csv << line;
@@ -272,7 +272,7 @@ long runSolveError(const StudyOptions& o, const std::vector<SolveErrorConfig>& c
                    Progress& progress) {
     const std::vector<Method> methods = methodsOf(o);
     std::ofstream csv(o.out + (o.frontOnly ? "/unused.csv" : "/error_vs_runtime.csv"));
-    csv << "row,scene,size,stiffness,h,family,solver,ms_per_step,timing,solve_error,traj_error_be,traj_error_fine,"
+    csv << "row,scene,size,stiffness,h,duration,family,solver,ms_per_step,timing,solve_error,traj_error_be,traj_error_fine,"
            "max_stretch,p99_stretch,energy_growth,stable,fail_step\n";
     long row = -1;
     for (const SolveErrorConfig& c : configs) {

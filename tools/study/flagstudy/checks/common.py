@@ -5,6 +5,8 @@ import csv
 import json
 import os
 
+from flagstudy import stale
+
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..")  # in tools/study/flagstudy/checks/
 
 # The demo default as the CSVs label it: the solver's keys and the constraints in one spec, with
@@ -40,21 +42,45 @@ class Finding(Exception):
     pass
 
 
+class StaleRow(dict):
+    """A committed row that stale.csv marks: a finding may find it by its key, and fails when it
+    reads anything else (the row is not what today's code computes)."""
+
+    def __init__(self, row, name, mark):
+        super().__init__(row)
+        self.name, self.mark = name, mark
+
+    def __getitem__(self, column):
+        if column not in stale.KEYS.get(self.name, ()) and column not in self.mark.match:
+            raise Finding(f"cites {self.name} {stale.key_of(self.name, self)}, which {stale.NAME} marks stale "
+                          f"({self.mark.why}): re-run the row")
+        return super().__getitem__(column)
+
+    def get(self, column, default=None):
+        return self[column] if column in self else default
+
+
 class Docs:
-    """The committed CSVs of one folder, read once each."""
+    """The committed CSVs of one folder, read once each; the rows stale.csv marks as StaleRow."""
 
     def __init__(self, d):
         self.d = d
         self.cache = {}
+        try:
+            self.marks = stale.read_marks(d)
+        except ValueError as e:
+            raise Finding(str(e))
 
     def rows(self, name):
         if name not in self.cache:
             path = os.path.join(self.d, name)
             try:
                 with open(path, newline="") as f:
-                    self.cache[name] = list(csv.DictReader(f))
+                    rows = list(csv.DictReader(f))
             except OSError as e:
                 raise Finding(f"cannot read {path}: {e}")
+            marked = ((r, stale.mark_of(self.marks, name, r)) for r in rows)
+            self.cache[name] = [StaleRow(r, name, m) if m else r for r, m in marked]
         return self.cache[name]
 
 

@@ -10,7 +10,7 @@ import sys
 from flagstudy import front_checks
 from flagstudy.checks.common import num
 
-COLUMNS = ["row", "scene", "size", "stiffness", "h", "family", "solver", "ms_per_step", "timing", "solve_error", "traj_error_be",
+COLUMNS = ["row", "scene", "size", "stiffness", "h", "duration", "family", "solver", "ms_per_step", "timing", "solve_error", "traj_error_be",
            "traj_error_fine", "max_stretch", "p99_stretch", "energy_growth", "stable", "fail_step"]
 FAMILIES = {"kangcho", "kangcho_no_eq17", "exact", "desbrun", "cg", "chebyshev", "explicit", "bullet", "multigrid",
             "multigrid_stationary"}
