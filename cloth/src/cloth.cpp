@@ -29,6 +29,7 @@ const char* toString(ClothStage stage) {
         case ClothStage::Air: return "air";
         case ClothStage::Solve: return "cloth_step";
         case ClothStage::Collision: return "collision";
+        case ClothStage::Contact: return "contact";
     }
     return "?";
 }
@@ -39,12 +40,14 @@ Cloth::Cloth(ClothDesc desc, const ClothSettings& settings, const RigidFrame& ca
     if (start_.cols() == 0) start_ = model_.restPositions();
     if (start_.cols() != model_.particleCount()) throw std::invalid_argument("cloth: start shape has the wrong size");
     makeSolver(settings);
+    solids_ = std::move(desc.solids);
     collisionSkip_ = std::move(desc.collisionSkip);
     collisionSkip_.resize(std::size_t(model_.particleCount()), 0);
+    pinned_.assign(std::size_t(model_.particleCount()), 0);
     for (const Attachment& a : attachments_) {
         if (a.particle < 0 || a.particle >= model_.particleCount())
             throw std::invalid_argument("cloth: attachment of particle " + std::to_string(a.particle) + ": no such particle");
-        collisionSkip_[std::size_t(a.particle)] = 1;
+        collisionSkip_[std::size_t(a.particle)] = pinned_[std::size_t(a.particle)] = 1;
         pins_.push_back({a.particle, Vec3::Zero(), Vec3::Zero()});
     }
     const Points& rest = model_.restPositions();
@@ -59,6 +62,8 @@ void Cloth::makeSolver(const ClothSettings& settings) {
     if (!solver) throw std::invalid_argument("solver: " + error);
     if (const std::string bad = validate(settings.constraints); !bad.empty())
         throw std::invalid_argument("constraints: " + bad);
+    if (settings.contact.enabled && (model_.gridNx() < 2 || !(settings.contact.thickness > 0) || !(settings.contact.maxMove > 0)))
+        throw std::invalid_argument("contact: needs a grid cloth, a thickness and a move above 0");
     solver->setConstraints(settings.constraints);
     solver->threadPool().setObserver(workerObserver_);
     solver_ = std::move(solver);
@@ -86,12 +91,14 @@ void Cloth::reset(const RigidFrame& carrier) {
         state_.x.col(i) = w;
         state_.v.col(i) = carrier.velocityAt(w);
     }
+    carrier_ = carrier;
     updatePins(carrier);
 }
 
 void Cloth::restart(const State& state, const RigidFrame& carrier) {
     state_ = state;
     solver_->resetHistory();
+    carrier_ = carrier;
     updatePins(carrier);
 }
 
@@ -113,14 +120,30 @@ bool Cloth::step(Scalar h, const RigidFrame& carrier, const std::vector<Collider
     // A failed single step leaves the state untouched; with substeps, keep the start to go back to.
     std::optional<State> before;
     if (n > 1) before = state_;
-    if (runSubsteps(h, n, carrier, start, meet)) return true;
-    if (before) state_ = *before;
-    solver_->resetHistory();
-    pins_ = start;
-    if (runSubsteps(h, 8 * n, carrier, start, meet)) return false;
-    reset(carrier);
-    return false;
+    const bool ok = runSubsteps(h, n, carrier, start, meet);
+    if (!ok) {
+        if (before) state_ = *before;
+        solver_->resetHistory();
+        pins_ = start;
+        if (!runSubsteps(h, 8 * n, carrier, start, meet)) reset(carrier);
+    }
+    carrier_ = carrier;
+    return ok;
 }
+
+namespace {
+
+// The carrier a fraction f of the way from a to b: its position on the straight line, its
+// rotation on the great arc.
+RigidFrame between(const RigidFrame& a, const RigidFrame& b, Scalar f) {
+    if (f >= 1) return b;
+    RigidFrame c = b;
+    c.position = a.position + f * (b.position - a.position);
+    c.rotation = a.rotation.slerp(f, b.rotation);
+    return c;
+}
+
+}  // namespace
 
 bool Cloth::runSubsteps(Scalar h, int n, const RigidFrame& carrier, const std::vector<Pin>& start,
                         const std::vector<Collider>& colliders) {
@@ -129,7 +152,8 @@ bool Cloth::runSubsteps(Scalar h, int n, const RigidFrame& carrier, const std::v
         if (s < n)
             for (std::size_t k = 0; k < pins_.size(); ++k)
                 pins_[k].x = start[k].x + (pins_[k].x - start[k].x) * (Scalar(s) / n);
-        if (!stepOnce(h / n, colliders)) return false;
+        if (!stepOnce(h / n, colliders, between(carrier_, carrier, Scalar(s - 1) / n), between(carrier_, carrier, Scalar(s) / n)))
+            return false;
     }
     return true;
 }
@@ -165,7 +189,18 @@ void Cloth::collide(const std::vector<Collider>& colliders) {
     if (observer_) observer_->stageEnded(ClothStage::Collision, t0, t1);
 }
 
-bool Cloth::stepOnce(Scalar h, const std::vector<Collider>& colliders) {
+// Contact over the step just taken, from xStart_ (the carrier at `from`) to the state (at `to`).
+void Cloth::makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h) {
+    if (observer_) observer_->stageBegins(ClothStage::Contact);
+    const auto t0 = Clock::now();
+    contactReport_ = contactStage_.apply(model_, pinned_, xStart_, state_, from, to, solids_, settings_.contact, h);
+    const auto t1 = Clock::now();
+    profile_.contact += msBetween(t0, t1);
+    if (observer_) observer_->stageEnded(ClothStage::Contact, t0, t1);
+}
+
+bool Cloth::stepOnce(Scalar h, const std::vector<Collider>& colliders, const RigidFrame& from, const RigidFrame& to) {
+    if (settings_.contact.enabled) xStart_ = state_.x;
     StepInput input;
     input.h = h;
     input.pins = pins_;
@@ -188,6 +223,7 @@ bool Cloth::stepOnce(Scalar h, const std::vector<Collider>& colliders) {
     counts_.linearIterations += r.linearIterations;
     if (r.status != StepStatus::Ok) return fail(toString(r.status), r.badParticle);
     if (collideHere && !solver_->resolvesCollisions()) collide(colliders);
+    if (settings_.contact.enabled) makeContact(from, to, h);
     if (const Index i = firstRunaway(state_, pins_.front().x, reach_); i >= 0) return fail("diverged", i);
     return true;
 }

@@ -6,7 +6,7 @@
 
 namespace cloth {
 
-Model flagModel(const FlagDesc& flag, const Pole& pole) {
+Model flagModel(const FlagDesc& flag, const Pole& pole, Scalar thickness) {
     GridDesc g;
     g.nx = flag.nx;
     g.ny = flag.ny;
@@ -14,7 +14,7 @@ Model flagModel(const FlagDesc& flag, const Pole& pole) {
     g.height = flag.height;
     g.totalMass = flag.mass;
     g.stiffness = flag.stiffness;
-    g.origin = pole.base + Vec3(0, pole.height, 0);
+    g.origin = pole.base + Vec3(0, pole.height, 0) + (flag.onShell ? pole.radius + thickness : 0) * pole.trailing;
     g.axisU = pole.trailing;
     g.axisV = -Vec3::UnitY();
     return Model::fromGrid(g);
@@ -37,7 +37,7 @@ Points rippled(const Model& model, const Pole& pole) {
 }  // namespace
 
 ClothDesc flagOnPole(const FlagDesc& flag, const Pole& pole, Scalar thickness) {
-    ClothDesc d{flagModel(flag, pole), {}, {}, {}};
+    ClothDesc d{flagModel(flag, pole, thickness), {}, {}, {}, {poleSolid(pole)}};
     for (const Pin& p : pinColumn(d.model)) d.attachments.push_back({p.particle, p.x});
     d.start = rippled(d.model, pole);
     d.collisionSkip.assign(std::size_t(d.model.particleCount()), 0);
@@ -47,6 +47,16 @@ ClothDesc flagOnPole(const FlagDesc& flag, const Pole& pole, Scalar thickness) {
         if (std::hypot(r.x(), r.z()) < sleeve) d.collisionSkip[std::size_t(i)] = 1;
     }
     return d;
+}
+
+Collider poleSolid(const Pole& pole) {
+    Collider c;
+    c.shape = Collider::Shape::Capsule;
+    c.axis = Vec3::UnitY();
+    c.center = pole.base + Vec3(0, pole.height / 2, 0);
+    c.halfExtents = Vec3(pole.height / 2, 0, 0);
+    c.radius = pole.radius;
+    return c;
 }
 
 Collider poleCollider(const Pole& pole, const RigidFrame& carrier) {

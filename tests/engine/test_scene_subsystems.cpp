@@ -10,13 +10,14 @@ using namespace engine;
 namespace {
 
 // The phases a subsystem set must produce, written out here independently of the runtime.
-std::vector<std::string> expectedPhases(unsigned s) {
+std::vector<std::string> expectedPhases(unsigned s, bool contact) {
     std::vector<std::string> p;
     if (s & kVehicle) p.insert(p.end(), {"input", "bullet"});
     if (s & kCloth) {
         if (s & kAir) p.push_back("air");
         p.insert(p.end(), {"cloth_forces", "cloth_solve"});
         if (s & kCollision) p.push_back("collision");
+        if ((s & kCollision) && contact) p.push_back("contact");
     }
     // The software rasterizer the tests run on gets the post pass (render.aa = auto).
     if (s & kRender) p.insert(p.end(), {"render", "readback", "aa"});
@@ -44,7 +45,7 @@ TEST(SceneSubsystems, EveryShippedSceneProfilesExactlyItsDeclaredPhases) {
         for (const std::string& p : rt.profiler().phases())
             if (p.rfind("bullet:", 0) != 0) phases.push_back(p);
             else EXPECT_TRUE(declared & kVehicle) << name << ": Bullet zone " << p << " without a vehicle";
-        EXPECT_EQ(phases, expectedPhases(declared)) << name;
+        EXPECT_EQ(phases, expectedPhases(declared, s.flag.contact.enabled)) << name;
         const SubsystemCounters after = subsystemCounters();
         EXPECT_EQ(after.bulletWorlds - before.bulletWorlds, (declared & kVehicle) ? 1 : 0) << name;
         EXPECT_EQ(after.glContexts - before.glContexts, (declared & kRender) ? 1 : 0) << name;

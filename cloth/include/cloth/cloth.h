@@ -10,6 +10,8 @@
 //                          colliders too when the solver meets them at every substep
 //                          (Solver::resolvesCollisions)
 //                 collide  the colliders, after the solve (the other solvers)
+//                 contact  no edge through the carrier's solids or through the cloth, over the
+//                          step's whole motion (contact.h; with settings.contact.enabled)
 //                 check    finite, and no particle beyond the runaway reach
 //   on failure:   the tick again in 8x the substeps from its start; failing that, back to the
 //                 start shape on the carrier. Every failure is counted, the first one described.
@@ -27,6 +29,7 @@
 #include "cloth/air.h"
 #include "cloth/collision.h"
 #include "cloth/constraints.h"
+#include "cloth/contact.h"
 #include "cloth/rigid_frame.h"
 #include "cloth/solver.h"
 #include "cloth/solver_config.h"
@@ -47,6 +50,9 @@ struct ClothDesc {
     Points start;
     // Particles the colliders leave alone (a sleeve round a pole); the attachments always are.
     std::vector<std::uint8_t> collisionSkip;
+    // Solids the carrier holds, in its frame (capsules, boxes: their radius and half sizes the
+    // solid itself), which contact keeps every edge of the cloth out of (contact.h).
+    std::vector<Collider> solids;
 };
 
 // How it is stepped (Jolt's *Settings: a public struct filled in by code; a scene file maps onto it).
@@ -60,11 +66,12 @@ struct ClothSettings {
     bool collisions = false;  // meet the colliders step() is given
     Scalar thickness = 0.015; // m kept between a particle and a collider
     int substeps = 1;         // solver steps per tick
+    ContactSettings contact;  // edges kept out of the carrier's solids and out of each other (off)
 };
 
 // What the last tick cost, per stage (milliseconds, summed over its substeps).
 struct ClothProfile {
-    double air = 0, forces = 0, solve = 0, collision = 0;
+    double air = 0, forces = 0, solve = 0, collision = 0, contact = 0;
 };
 
 // The solver's iterations, summed over the steps since construction.
@@ -74,7 +81,7 @@ struct ClothCounts {
     long long linearIterations = 0;  // newton: GMRES iterations
 };
 
-enum class ClothStage { Air, Solve, Collision };
+enum class ClothStage { Air, Solve, Collision, Contact };
 const char* toString(ClothStage stage);
 
 // A host's view of the stages as they run (a trace), on the calling thread. A solve's forces and
@@ -113,6 +120,8 @@ public:
     const std::vector<std::uint8_t>& collisionSkip() const { return collisionSkip_; }
     const ClothProfile& profile() const { return profile_; }
     const ClothCounts& counts() const { return counts_; }
+    const ContactReport& contactReport() const { return contactReport_; }  // the last step's
+    const std::vector<Collider>& solids() const { return solids_; }
     long long steps() const { return steps_; }
     int failures() const { return failures_; }
     const std::string& firstFailure() const { return firstFailure_; }
@@ -128,7 +137,8 @@ public:
 private:
     bool runSubsteps(Scalar h, int n, const RigidFrame& carrier, const std::vector<Pin>& start,
                      const std::vector<Collider>& colliders);
-    bool stepOnce(Scalar h, const std::vector<Collider>& colliders);
+    bool stepOnce(Scalar h, const std::vector<Collider>& colliders, const RigidFrame& from, const RigidFrame& to);
+    void makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h);
     void addAir(StepInput& input);
     void collide(const std::vector<Collider>& colliders);
     bool fail(const std::string& what, Index particle);
@@ -142,7 +152,12 @@ private:
     std::vector<Attachment> attachments_;
     Points start_;
     std::vector<Pin> pins_;
-    std::vector<std::uint8_t> collisionSkip_;
+    std::vector<std::uint8_t> collisionSkip_, pinned_;
+    std::vector<Collider> solids_;
+    RigidFrame carrier_;  // where the last tick left the carrier
+    ContactStage contactStage_;
+    ContactReport contactReport_;
+    Points xStart_;  // the step's start, for contact
     Scalar reach_ = 0;
     Points airForce_;
     std::vector<Mat3> airJacobian_, airDamping_;

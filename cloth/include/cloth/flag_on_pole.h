@@ -19,18 +19,28 @@ struct FlagDesc {
     Scalar width = 1.5, height = 1.0;
     Scalar mass = 0.25;  // kg
     Stiffness stiffness = {1e3, 1e2, 5};
+    // Column 0 on the pole's collision shell (radius + thickness from its axis, on the trailing
+    // side), like a sleeve sewn round it: no edge from the pinned column runs through the pole and
+    // no free particle starts inside the shell, at any resolution (what contact needs); false: on
+    // the pole's axis.
+    bool onShell = false;
 };
 
-// The flag's grid: column 0 on the pole's axis from its top down, the flag trailing behind.
-// Throws std::invalid_argument naming the field for a grid that cannot be built.
-Model flagModel(const FlagDesc& flag, const Pole& pole);
+// The flag's grid: column 0 down the pole from its top (on its axis, or on its collision shell:
+// FlagDesc::onShell), the flag trailing behind. Throws std::invalid_argument naming the field for
+// a grid that cannot be built.
+Model flagModel(const FlagDesc& flag, const Pole& pole, Scalar thickness);
 
-// The flag as a Cloth is made: its model, column 0 attached where it rests on the pole's axis,
+// The flag as a Cloth is made: its model, column 0 attached where it rests on the pole,
 // its start shape (the rest shape with a millimetre ripple across its plane: no real flag is
 // perfectly flat, and a flat sheet pinned along an edge is an unstable equilibrium it would never
 // leave), and the particles the colliders leave alone: those whose rest position lies inside
-// the pole's collision capsule (radius + thickness), a sleeve sewn round it.
+// the pole's collision capsule (radius + thickness), and the pole as a solid its carrier holds
+// (contact.h).
 ClothDesc flagOnPole(const FlagDesc& flag, const Pole& pole, Scalar thickness);
+
+// The pole's solid in its carrier's frame: a capsule of the pole's radius along its axis.
+Collider poleSolid(const Pole& pole);
 
 // The pole as a collider: its capsule in world space, for the carrier's pose.
 Collider poleCollider(const Pole& pole, const RigidFrame& carrier);

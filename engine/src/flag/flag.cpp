@@ -11,7 +11,8 @@ namespace engine {
 
 cloth::FlagDesc flagDescOf(const SceneConfig& scene) {
     const auto& f = scene.flag;
-    return {f.nx, f.ny, f.width, f.height, f.mass, f.stiffness};
+    // With contact, the sleeve on the pole's shell (no pinned edge through the pole).
+    return {f.nx, f.ny, f.width, f.height, f.mass, f.stiffness, f.contact.enabled && (scene.subsystems & kCollision)};
 }
 
 cloth::ClothSettings clothSettingsOf(const SceneConfig& scene) {
@@ -25,6 +26,8 @@ cloth::ClothSettings clothSettingsOf(const SceneConfig& scene) {
     s.collisions = scene.subsystems & kCollision;
     s.thickness = scene.flag.thickness;
     s.substeps = scene.flag.substeps;
+    s.contact = scene.flag.contact;
+    s.contact.enabled = scene.flag.contact.enabled && (scene.subsystems & kCollision);
     return s;
 }
 
@@ -40,8 +43,10 @@ cloth::ClothDesc flagOnPoleOf(const SceneConfig& scene, const PoleMount& mount) 
 
 }  // namespace
 
-cloth::Cloth makeFlagCloth(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier) {
+cloth::Cloth makeFlagCloth(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier,
+                           const std::vector<cloth::Collider>& solids) {
     cloth::ClothDesc desc = flagOnPoleOf(scene, mount);
+    desc.solids.insert(desc.solids.end(), solids.begin(), solids.end());
     try {
         return cloth::Cloth(std::move(desc), clothSettingsOf(scene), carrier);
     } catch (const std::invalid_argument& e) {
@@ -49,8 +54,9 @@ cloth::Cloth makeFlagCloth(const SceneConfig& scene, const PoleMount& mount, con
     }
 }
 
-Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier)
-    : mount_(mount), cloth_(makeFlagCloth(scene, mount, carrier)) {}
+Flag::Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier,
+           const std::vector<cloth::Collider>& solids)
+    : mount_(mount), cloth_(makeFlagCloth(scene, mount, carrier, solids)) {}
 
 void Flag::reconfigure(const SceneConfig& scene) {
     cloth::Model model = flagOnPoleOf(scene, mount_).model;
@@ -70,13 +76,14 @@ void Flag::tick(double h, const RigidFrame& carrier, const std::vector<cloth::Co
     timings_.forces += p.forces;
     timings_.solve += p.solve;
     timings_.collision += p.collision;
+    timings_.contact += p.contact;
 }
 
 void Flag::setTrace(Trace* trace) {
     trace_ = trace;
     if (trace) traceNames_ = {trace->nameId(phaseName(Phase::Air)), trace->nameId(phaseName(Phase::ClothForces)),
                               trace->nameId(phaseName(Phase::ClothSolve)), trace->nameId(phaseName(Phase::Collision)),
-                              trace->nameId("cloth_step")};
+                              trace->nameId(phaseName(Phase::Contact)), trace->nameId("cloth_step")};
     cloth_.setObserver(trace ? this : nullptr);
     observeWorkers();
 }
@@ -98,6 +105,7 @@ void Flag::stageBegins(cloth::ClothStage stage) {
         case cloth::ClothStage::Air: stage_ = traceNames_.air; break;
         case cloth::ClothStage::Solve: stage_ = traceNames_.step; break;
         case cloth::ClothStage::Collision: stage_ = traceNames_.collision; break;
+        case cloth::ClothStage::Contact: stage_ = traceNames_.contact; break;
     }
 }
 
@@ -108,6 +116,7 @@ void Flag::stageEnded(cloth::ClothStage stage, Clock::time_point begin, Clock::t
         case cloth::ClothStage::Collision:
             trace_->complete(traceNames_.collision, Trace::Category::Phase, begin, end);
             break;
+        case cloth::ClothStage::Contact: trace_->complete(traceNames_.contact, Trace::Category::Phase, begin, end); break;
     }
 }
 

@@ -12,8 +12,9 @@ namespace engine {
 
 const char* phaseName(Phase phase) {
     static const char* const names[kPhaseCount] = {"input",    "bullet",   "air",      "cloth_forces",
-                                                   "cloth_solve", "collision", "render", "overlay",
-                                                   "readback", "aa", "panel",    "write"};
+                                                   "cloth_solve", "collision", "contact", "render",
+                                                   "overlay",  "readback", "aa",       "panel",
+                                                   "write"};
     return names[std::size_t(phase)];
 }
 

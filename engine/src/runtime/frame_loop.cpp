@@ -62,8 +62,10 @@ void Runtime::Impl::measurePinError() {
     const RigidFrame c = carrier();
     const auto& pins = flag->pins();
     const double dy = scene.flag.height / (scene.flag.ny - 1);
+    // With contact the pinned column sits on the pole's collision shell (cloth/flag_on_pole.h).
+    const double sleeve = flagDescOf(scene).onShell ? mount.radius + scene.flag.thickness : 0;
     for (std::size_t r = 0; r < pins.size(); ++r) {
-        const Eigen::Vector3d local = mount.base + Eigen::Vector3d(0, mount.height - r * dy, 0);
+        const Eigen::Vector3d local = mount.base + Eigen::Vector3d(0, mount.height - r * dy, 0) + sleeve * mount.trailing;
         maxPinError = std::max(maxPinError, (flag->state().x.col(pins[r].particle) - c.point(local)).norm());
     }
 }

@@ -112,6 +112,7 @@ void Runtime::Impl::enablePhases() {
         p.enable(Phase::ClothForces);
         p.enable(Phase::ClothSolve);
         if (subsystems & kCollision) p.enable(Phase::Collision);
+        if ((subsystems & kCollision) && scene.flag.contact.enabled) p.enable(Phase::Contact);
     }
     if (subsystems & kRender) {
         p.enable(Phase::Render);
@@ -143,7 +144,9 @@ void Runtime::Impl::buildFlag() {
         mount.radius = s.pole.radius;
         mount.trailing = Eigen::Vector3d::UnitX();
     }
-    flag = std::make_unique<Flag>(s, mount, pose);
+    std::vector<cloth::Collider> solids;  // the vehicle's body, beside the pole
+    if (vehicle && (s.subsystems & kCollision)) solids.push_back(vehicle->bodySolid());
+    flag = std::make_unique<Flag>(s, mount, pose, solids);
     flag->setTrace(trace.get());
     if (s.subsystems & kCollision) {
         cloth::Collider ground;  // the ground plane, y = 0

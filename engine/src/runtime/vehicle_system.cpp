@@ -70,6 +70,14 @@ cloth::Collider VehicleSystem::bodyCollider() const {
     return box;
 }
 
+cloth::Collider VehicleSystem::bodySolid() const {
+    cloth::Collider box;
+    box.shape = cloth::Collider::Shape::Box;
+    box.center = bodyOffset();
+    box.halfExtents = world_->params().halfExtents;
+    return box;
+}
+
 Eigen::Vector3d VehicleSystem::forward() const { return world_->chassis().rotation * Eigen::Vector3d::UnitZ(); }
 
 Eigen::Isometry3d VehicleSystem::chassisTransform() const {

@@ -32,6 +32,8 @@ public:
     RigidFrame carrier() const;        // chassis pose and velocity
     PoleMount poleMount() const;       // the pole in the chassis frame
     cloth::Collider bodyCollider() const;
+    // The body's box in the chassis frame: a solid the flag's contact keeps its edges out of.
+    cloth::Collider bodySolid() const;
     Eigen::Vector3d forward() const;   // world-space driving direction
     Eigen::Isometry3d chassisTransform() const;
     int wheelCount() const;

@@ -19,6 +19,7 @@ double VehicleSystem::stepTick(double dt) { return dt; }
 RigidFrame VehicleSystem::carrier() const { return {}; }
 PoleMount VehicleSystem::poleMount() const { return mount_; }
 cloth::Collider VehicleSystem::bodyCollider() const { return {}; }
+cloth::Collider VehicleSystem::bodySolid() const { return {}; }
 Eigen::Vector3d VehicleSystem::forward() const { return Eigen::Vector3d::UnitZ(); }
 Eigen::Isometry3d VehicleSystem::chassisTransform() const { return Eigen::Isometry3d::Identity(); }
 int VehicleSystem::wheelCount() const { return 0; }

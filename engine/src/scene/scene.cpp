@@ -156,11 +156,20 @@ void readSolver(const JsonFields& solver, cloth::SolverConfig& config) {
         solver.fail(solver.pathOf("name"), solver.has("name") ? solver.at("name") : nlohmann::json(name), problem);
 }
 
+// "flag.contact": whether the flag's edges are kept out of the pole, the body and the flag itself.
+void readContact(const JsonFields& c, cloth::ContactSettings& contact) {
+    c.allowOnly({"enabled", "self", "thickness", "max_move"});
+    contact.enabled = c.boolean("enabled", contact.enabled);
+    contact.self = c.boolean("self", contact.self);
+    contact.thickness = c.number("thickness", contact.thickness, 1e-4, 0.1);
+    contact.maxMove = c.number("max_move", contact.maxMove, 1e-4, 0.1);
+}
+
 // "flag": its grid, size, mass, stiffness, solver, drag, collision margin and substeps.
 void readFlag(const JsonFields& top, SceneConfig::Flag& flag) {
     const JsonFields f = top.child("flag");
     f.allowOnly({"resolution", "width", "height", "mass", "stiffness", "solver", "constraints", "drag",
-                 "thickness", "substeps", "implicit_air"});
+                 "thickness", "substeps", "implicit_air", "contact"});
     if (f.has("resolution")) readResolution(f, flag);
     flag.width = f.number("width", flag.width, 0.01, 100);
     flag.height = f.number("height", flag.height, 0.01, 100);
@@ -181,6 +190,7 @@ void readFlag(const JsonFields& top, SceneConfig::Flag& flag) {
     flag.thickness = f.number("thickness", flag.thickness, 0, 1);
     flag.substeps = f.integer("substeps", flag.substeps, 1, 1000);
     flag.implicitAir = f.boolean("implicit_air", flag.implicitAir);
+    readContact(f.child("contact"), flag.contact);
 }
 
 // "air": the wind and the air's density and coefficients.

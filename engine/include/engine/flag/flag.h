@@ -25,7 +25,7 @@ using RigidFrame = cloth::RigidFrame;
 using PoleMount = cloth::Pole;
 
 struct FlagTimings {  // milliseconds, summed since the last reset
-    double forces = 0, solve = 0, air = 0, collision = 0;
+    double forces = 0, solve = 0, air = 0, collision = 0, contact = 0;
 };
 
 using SolverCounts = cloth::ClothCounts;
@@ -33,13 +33,16 @@ using SolverCounts = cloth::ClothCounts;
 // The library's flag and cloth settings from a scene's (throw ConfigError naming the scene file).
 cloth::FlagDesc flagDescOf(const SceneConfig& scene);
 cloth::ClothSettings clothSettingsOf(const SceneConfig& scene);
-// The scene's flag as the library's cloth on `mount`, at rest on the carrier.
-cloth::Cloth makeFlagCloth(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier);
+// The scene's flag as the library's cloth on `mount`, at rest on the carrier; `solids` the
+// carrier's other solids in its frame (the vehicle's body), which contact keeps it out of.
+cloth::Cloth makeFlagCloth(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier,
+                           const std::vector<cloth::Collider>& solids = {});
 
 class Flag : private cloth::ClothObserver {
 public:
     // Throws ConfigError when the settings cannot make a cloth (the message names the field).
-    Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier);
+    Flag(const SceneConfig& scene, const PoleMount& mount, const RigidFrame& carrier,
+         const std::vector<cloth::Collider>& solids = {});
 
     // One tick of length h with the carrier at its end-of-tick pose (Cloth::step). `colliders`
     // are world-space (pole capsule, body, ground).
@@ -82,7 +85,7 @@ private:
     FlagTimings timings_;
     Trace* trace_ = nullptr;
     struct TraceNames {
-        int air = -1, forces = -1, solve = -1, collision = -1, step = -1;
+        int air = -1, forces = -1, solve = -1, collision = -1, contact = -1, step = -1;
     } traceNames_;
     int stage_ = -1;  // the trace name of what the solver's pool works on now (its workers' events)
 };

@@ -23,6 +23,7 @@ enum class Phase {
     ClothForces,  // the solver's forces, Jacobian blocks and right-hand side      [cloth]
     ClothSolve,   // the solver's solve, integration and the cloth's constraints    [cloth]
     Collision,    // the flag against the pole, the vehicle and the ground          [collision]
+    Contact,      // the flag's edges kept out of the solids and out of itself    [flag.contact]
     Render,       // the scene drawn                                                [render]
     Overlay,      // the panel drawn into the recorded frames                       [--overlay]
     Readback,     // glFinish and the pixels read back                              [render]
@@ -30,7 +31,7 @@ enum class Phase {
     Panel,        // the panel drawn on screen only                                 [window]
     Write,        // the frame handed to the PNG and video writers                  [recording]
 };
-inline constexpr int kPhaseCount = 12;
+inline constexpr int kPhaseCount = 13;
 const char* phaseName(Phase phase);  // "input", "bullet", "cloth_forces", ...
 
 // One frame's milliseconds in each phase (0 in a phase the scene does not enable) and in all.

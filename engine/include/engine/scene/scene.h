@@ -9,6 +9,7 @@
 
 #include "engine/scene/anti_aliasing.h"
 #include "cloth/air.h"
+#include "cloth/contact.h"
 #include "cloth/model.h"
 #include "cloth/solver.h"
 #include "cloth/solver_config.h"
@@ -75,6 +76,7 @@ struct SceneConfig {
         double thickness = 0.015;    // collision margin, m
         int substeps = 1;            // cloth steps per physics tick
         bool implicitAir = true;     // air's velocity derivative in the implicit solve (air.h)
+        cloth::ContactSettings contact;  // edges kept out of the pole, the body and itself (collision subsystem)
     } flag;
 
     cloth::AirParams air;

@@ -1,0 +1,75 @@
+#pragma once
+// Contact: after a step, no edge of the cloth ends up through a solid its carrier holds (the pole,
+// the vehicle's body) or through another part of the cloth, whatever the step's length or speed.
+// It runs outside any solver's linear solve, as a game engine would add it to the paper's step,
+// on the step's start and end positions, in the carrier's frame (so that the solids stand still
+// and a teleport of the carrier moves nothing):
+//
+//   1. broad phase (contact/broad_phase.h): the primitives whose swept boxes can meet, self pairs
+//      (vertex-triangle and edge-edge, more than two grid cells apart) and the primitives near
+//      each solid;
+//   2. the step's motion of those particles cut into sub-intervals of at most `maxMove` each;
+//      in each, the particles head for their share of the step's end, and
+//      - proximity: pairs that would come closer than `thickness` are pushed apart (position
+//        corrections along the pair's normal, as position-based dynamics does), and edges are
+//        kept `thickness` off a capsule's surface;
+//      - displacement bounds (the guarantee, after Offset Geometric Contact, Chen et al. 2025):
+//        each particle moves at most 0.9 times half its distance to any other primitive it may meet
+//        (0.9 times the whole distance to a solid): two primitives each moving less than half
+//        the gap between them cannot meet, so no edge crosses a triangle or a solid during the
+//        sub-interval. An edge from a pinned particle keeps its free end out of the shadow the
+//        pole casts from the pinned one (in the pole's cross-section).
+//   3. the positions back in the world, each particle's velocity changed by its correction / h.
+// The state is never left crossed if it started uncrossed. Pinned particles are never moved.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "cloth/collision.h"
+#include "cloth/model.h"
+#include "cloth/rigid_frame.h"
+#include "cloth/thread_pool.h"
+
+namespace cloth {
+
+namespace contact {
+class BroadPhase;
+}
+
+struct ContactSettings {
+    bool enabled = false;      // keep the cloth out of its carrier's solids (and, with self, out of itself)
+    bool self = true;          // self-contact (off for a flag that cannot fold onto itself)
+    Scalar thickness = 0.005;  // m: the gap kept between two parts of the cloth, and off a capsule
+    Scalar maxMove = 0.0025;   // m: the most a particle moves, relative to the carrier, in a sub-interval
+};
+
+// What one application found and did.
+struct ContactReport {
+    int subintervals = 0;  // the step's motion cut into this many
+    int selfPairs = 0;     // self pairs from the broad phase
+    int near = 0;          // vertices and edges near a solid
+    int limited = 0;       // particle moves cut short by their bounds, summed over sub-intervals
+};
+
+class ContactStage {
+public:
+    ContactStage();
+    ~ContactStage();
+    ContactStage(ContactStage&&) noexcept;
+    ContactStage& operator=(ContactStage&&) noexcept;
+
+    // The step from `xStart` (world, the carrier at `from`) to `state` (the carrier at `to`):
+    // `solids` are in the carrier's frame (capsules and boxes; their radius and half sizes the
+    // solid itself). `pinned[i] != 0`: a pinned particle. Changes state.x and state.v.
+    ContactReport apply(const Model& model, const std::vector<std::uint8_t>& pinned, const Points& xStart,
+                        State& state, const RigidFrame& from, const RigidFrame& to, const std::vector<Collider>& solids,
+                        const ContactSettings& settings, Scalar h);
+
+private:
+    struct Work;
+    std::unique_ptr<contact::BroadPhase> broad_;
+    std::unique_ptr<Work> work_;
+};
+
+}  // namespace cloth

@@ -1,0 +1,233 @@
+#include "contact/broad_phase.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+namespace cloth::contact {
+
+namespace {
+
+// A node (or two adjacent ones) whose normals lie within acos(kFlat) of one axis cannot fold onto
+// itself: 85 degrees, a margin under Volino's 90 for the step's motion between its two ends.
+constexpr Scalar kFlat = 0.087;
+
+Vec3 normalOf(const Points& y, const Triangle& t) {
+    const Vec3 n = (y.col(t[1]) - y.col(t[0])).cross(y.col(t[2]) - y.col(t[0]));
+    const Scalar len = n.norm();
+    return len > 0 ? Vec3(n / len) : Vec3::Zero();
+}
+
+// The cone holding two cones (axis, cos of half-angle): its axis the normalized sum, its angle
+// the larger of each cone's angle plus its axis's angle to the new one.
+void mergeCones(const Vec3& a, Scalar ca, const Vec3& b, Scalar cb, Vec3& axis, Scalar& cosHalf) {
+    const Vec3 sum = a + b;
+    if (sum.norm() < 1e-12 || ca <= -1 || cb <= -1) {
+        axis = Vec3::UnitZ(), cosHalf = -1;
+        return;
+    }
+    axis = sum.normalized();
+    auto widest = [&](const Vec3& c, Scalar cc) {
+        return std::acos(std::clamp(c.dot(axis), Scalar(-1), Scalar(1))) + std::acos(std::clamp(cc, Scalar(-1), Scalar(1)));
+    };
+    const Scalar angle = std::max(widest(a, ca), widest(b, cb));
+    cosHalf = angle >= M_PI ? -1 : std::cos(angle);
+}
+
+}  // namespace
+
+void BroadPhase::prepare(const Model& model) {
+    nx_ = model.gridNx(), ny_ = model.gridNy();
+    if (nx_ < 2 || ny_ < 2) throw std::invalid_argument("contact: the cloth must be a grid");
+    model_ = model.id();
+    triangles_ = model.triangles();
+    const int cells = (nx_ - 1) * (ny_ - 1);
+    cellTriangles_.assign(cells, {}), cellVertices_.assign(cells, {}), cellEdges_.assign(cells, {});
+    auto cellOf = [&](Index i, Index j) {
+        const int r = std::min(std::min(i / nx_, j / nx_), ny_ - 2), c = std::min(std::min(i % nx_, j % nx_), nx_ - 2);
+        return r * (nx_ - 1) + c;
+    };
+    std::map<std::pair<Index, Index>, Index> seen;
+    edges_.clear();
+    for (Index t = 0; t < Index(triangles_.size()); ++t) {
+        const Triangle& tri = triangles_[t];
+        const int r = std::min({tri[0] / nx_, tri[1] / nx_, tri[2] / nx_}), c = std::min({tri[0] % nx_, tri[1] % nx_, tri[2] % nx_});
+        cellTriangles_[std::min(r, ny_ - 2) * (nx_ - 1) + std::min(c, nx_ - 2)].push_back(t);
+        for (int k = 0; k < 3; ++k) {
+            const Index i = std::min(tri[k], tri[(k + 1) % 3]), j = std::max(tri[k], tri[(k + 1) % 3]);
+            if (seen.emplace(std::pair{i, j}, Index(edges_.size())).second) {
+                cellEdges_[cellOf(i, j)].push_back(Index(edges_.size()));
+                edges_.push_back({i, j});
+            }
+        }
+    }
+    for (Index v = 0; v < model.particleCount(); ++v) cellVertices_[cellOf(v, v)].push_back(v);
+    nodes_.clear();
+    build(0, nx_ - 1, 0, ny_ - 1);
+}
+
+int BroadPhase::build(int c0, int c1, int r0, int r1) {
+    const int n = int(nodes_.size());
+    Node node;
+    node.c0 = c0, node.c1 = c1, node.r0 = r0, node.r1 = r1;
+    nodes_.push_back(node);
+    if (c1 - c0 <= 2 && r1 - r0 <= 2) return n;
+    const int cm = c1 - c0 > 2 ? (c0 + c1) / 2 : c1, rm = r1 - r0 > 2 ? (r0 + r1) / 2 : r1;
+    int k = 0;
+    for (auto [a, b] : {std::pair{c0, cm}, std::pair{cm, c1}})
+        for (auto [p, q] : {std::pair{r0, rm}, std::pair{rm, r1}})
+            if (a < b && p < q) {
+                const int child = build(a, b, p, q);
+                nodes_[n].child[k++] = child;
+            }
+    return n;
+}
+
+void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, Scalar margin) {
+    if (model.id() != model_) prepare(model);
+    const Index n = model.particleCount();
+    vertexBox_.assign(n, Box{});
+    for (Index i = 0; i < n; ++i) {
+        vertexBox_[i].add(y0.col(i)), vertexBox_[i].add(y1.col(i));
+        vertexBox_[i].lo.array() -= margin / 2, vertexBox_[i].hi.array() += margin / 2;
+    }
+    edgeBox_.assign(edges_.size(), Box{});
+    for (std::size_t e = 0; e < edges_.size(); ++e) edgeBox_[e].add(vertexBox_[edges_[e][0]]), edgeBox_[e].add(vertexBox_[edges_[e][1]]);
+    triangleBox_.assign(triangles_.size(), Box{});
+    normal0_.resize(triangles_.size()), normal1_.resize(triangles_.size());
+    for (std::size_t t = 0; t < triangles_.size(); ++t) {
+        for (Index v : triangles_[t]) triangleBox_[t].add(vertexBox_[v]);
+        normal0_[t] = normalOf(y0, triangles_[t]), normal1_[t] = normalOf(y1, triangles_[t]);
+    }
+    refitNode(0);
+}
+
+void BroadPhase::refitNode(int n) {
+    Node& node = nodes_[n];
+    node.box = Box{};
+    if (node.leaf()) {
+        Vec3 sum = Vec3::Zero();
+        std::vector<const Vec3*> normals;
+        for (int r = node.r0; r < node.r1; ++r)
+            for (int c = node.c0; c < node.c1; ++c)
+                for (Index t : cellTriangles_[r * (nx_ - 1) + c]) {
+                    node.box.add(triangleBox_[t]);
+                    sum += normal0_[t] + normal1_[t];
+                    normals.push_back(&normal0_[t]), normals.push_back(&normal1_[t]);
+                }
+        node.axis = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
+        node.cosHalf = 1;
+        for (const Vec3* m : normals) node.cosHalf = std::min(node.cosHalf, m->squaredNorm() > 0 ? m->dot(node.axis) : Scalar(-1));
+        return;
+    }
+    bool first = true;
+    for (int c : node.child) {
+        if (c < 0) continue;
+        refitNode(c);
+        Node& child = nodes_[c];
+        nodes_[n].box.add(child.box);
+        if (first) nodes_[n].axis = child.axis, nodes_[n].cosHalf = child.cosHalf;
+        else mergeCones(nodes_[n].axis, nodes_[n].cosHalf, child.axis, child.cosHalf, nodes_[n].axis, nodes_[n].cosHalf);
+        first = false;
+    }
+}
+
+bool BroadPhase::far(Index u, Index v) const {
+    return std::max(std::abs(u / nx_ - v / nx_), std::abs(u % nx_ - v % nx_)) > kExcludedCells;
+}
+
+bool BroadPhase::farTriangle(Index v, Index t) const {
+    const Triangle& tri = triangles_[t];
+    return far(v, tri[0]) && far(v, tri[1]) && far(v, tri[2]);
+}
+
+bool BroadPhase::farEdges(Index e, Index f) const {
+    const auto &a = edges_[e], &b = edges_[f];
+    return far(a[0], b[0]) && far(a[0], b[1]) && far(a[1], b[0]) && far(a[1], b[1]);
+}
+
+void BroadPhase::selfPairs(std::vector<Pair>& out) const {
+    out.clear();
+    if (!nodes_.empty()) self(0, out);
+}
+
+void BroadPhase::self(int n, std::vector<Pair>& out) const {
+    const Node& node = nodes_[n];
+    if (node.cosHalf > kFlat || node.leaf()) return;  // flat; a leaf's pairs are all within the springs' reach
+    for (int i = 0; i < 4 && node.child[i] >= 0; ++i) {
+        self(node.child[i], out);
+        for (int j = i + 1; j < 4 && node.child[j] >= 0; ++j) cross(node.child[i], node.child[j], out);
+    }
+}
+
+void BroadPhase::cross(int a, int b, std::vector<Pair>& out) const {
+    const Node &A = nodes_[a], &B = nodes_[b];
+    if (!A.box.overlaps(B.box)) return;
+    const int span = std::max(std::max(A.c1, B.c1) - std::min(A.c0, B.c0), std::max(A.r1, B.r1) - std::min(A.r0, B.r0));
+    if (span <= kExcludedCells) return;  // every pair within the springs' reach
+    const bool adjacent = A.c0 <= B.c1 && B.c0 <= A.c1 && A.r0 <= B.r1 && B.r0 <= A.r1;
+    if (adjacent) {
+        Vec3 axis;
+        Scalar cosHalf = -1;
+        mergeCones(A.axis, A.cosHalf, B.axis, B.cosHalf, axis, cosHalf);
+        if (cosHalf > kFlat) return;  // one flat patch
+    }
+    if (A.leaf() && B.leaf()) return leafPairs(A, B, out);
+    const bool splitA = !A.leaf() && (B.leaf() || (A.c1 - A.c0) * (A.r1 - A.r0) >= (B.c1 - B.c0) * (B.r1 - B.r0));
+    const Node& big = splitA ? A : B;
+    for (int c : big.child)
+        if (c >= 0) cross(splitA ? c : a, splitA ? b : c, out);
+}
+
+void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out) const {
+    auto cells = [&](const Node& n, auto fn) {
+        for (int r = n.r0; r < n.r1; ++r)
+            for (int c = n.c0; c < n.c1; ++c) fn(r * (nx_ - 1) + c);
+    };
+    auto vertexTriangles = [&](const Node& V, const Node& T) {
+        cells(V, [&](int cv) {
+            cells(T, [&](int ct) {
+                for (Index v : cellVertices_[cv])
+                    for (Index t : cellTriangles_[ct])
+                        if (farTriangle(v, t) && vertexBox_[v].overlaps(triangleBox_[t]))
+                            out.push_back({Pair::Kind::VertexTriangle, v, t});
+            });
+        });
+    };
+    vertexTriangles(A, B), vertexTriangles(B, A);
+    cells(A, [&](int ca) {
+        cells(B, [&](int cb) {
+            for (Index e : cellEdges_[ca])
+                for (Index f : cellEdges_[cb])
+                    if (farEdges(e, f) && edgeBox_[e].overlaps(edgeBox_[f])) out.push_back({Pair::Kind::EdgeEdge, e, f});
+        });
+    });
+}
+
+void BroadPhase::near(const Box& box, const std::vector<std::uint8_t>& pinned, std::vector<Index>& vertices,
+                      std::vector<Index>& edges) const {
+    vertices.clear(), edges.clear();
+    std::vector<int> stack = {0};
+    while (!stack.empty()) {
+        const Node& n = nodes_[stack.back()];
+        stack.pop_back();
+        if (nodes_.empty() || !n.box.overlaps(box)) continue;
+        if (!n.leaf()) {
+            for (int c : n.child)
+                if (c >= 0) stack.push_back(c);
+            continue;
+        }
+        for (int r = n.r0; r < n.r1; ++r)
+            for (int c = n.c0; c < n.c1; ++c) {
+                const int cell = r * (nx_ - 1) + c;
+                for (Index v : cellVertices_[cell])
+                    if (!pinned[v] && vertexBox_[v].overlaps(box)) vertices.push_back(v);
+                for (Index e : cellEdges_[cell])
+                    if (edgeBox_[e].overlaps(box)) edges.push_back(e);
+            }
+    }
+    std::sort(vertices.begin(), vertices.end()), std::sort(edges.begin(), edges.end());
+}
+
+}  // namespace cloth::contact

@@ -1,0 +1,81 @@
+#pragma once
+// The contact stage's broad phase on a grid cloth: which primitives may come within reach of each
+// other, or of an obstacle, during one step. A quadtree over the grid's cells (built once per
+// model) holds, after each refit, every node's box swept over the step (its particles at the start
+// and at the end, grown by a margin) and its normal cone (every triangle normal at both ends within
+// a half-angle of an axis).
+//   - Self pairs: vertex-triangle and edge-edge pairs at least kExcludedCells + 1 cells apart whose
+//     swept boxes overlap. A node whose normals lie within 90 degrees of one axis cannot fold onto
+//     itself (Volino and Magnenat-Thalmann 1994), nor can two adjacent nodes whose joint cone does:
+//     such nodes are not searched.
+//   - Obstacle primitives: free vertices and mesh edges whose swept boxes reach an obstacle's box.
+// Each vertex and each mesh edge belongs to one cell, so that no pair is listed twice.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "cloth/model.h"
+
+namespace cloth::contact {
+
+// Pairs of the grid within this many cells of each other are left to the cloth's springs.
+constexpr int kExcludedCells = 2;
+
+struct Box {
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    void add(const Vec3& p) { lo = lo.cwiseMin(p), hi = hi.cwiseMax(p); }
+    void add(const Box& b) { lo = lo.cwiseMin(b.lo), hi = hi.cwiseMax(b.hi); }
+    bool overlaps(const Box& b) const { return (lo.array() <= b.hi.array()).all() && (b.lo.array() <= hi.array()).all(); }
+};
+
+struct Pair {
+    enum class Kind : std::uint8_t { VertexTriangle, EdgeEdge } kind;
+    Index a = 0, b = 0;  // vertex and triangle, or the two edges (indices into mesh edges)
+};
+
+class BroadPhase {
+public:
+    // The grid's quadtree, its mesh edges and each primitive's cell; redone when the model changes.
+    void prepare(const Model& model);
+    // The swept boxes and normal cones of the step from y0 to y1 (carrier frame), grown by margin.
+    void refit(const Model& model, const Points& y0, const Points& y1, Scalar margin);
+    // The self pairs that may touch during the step.
+    void selfPairs(std::vector<Pair>& out) const;
+    // The free vertices and mesh edges whose swept boxes reach `box`.
+    void near(const Box& box, const std::vector<std::uint8_t>& pinned, std::vector<Index>& vertices,
+              std::vector<Index>& edges) const;
+
+    const std::vector<std::array<Index, 2>>& edges() const { return edges_; }
+    std::uint64_t model() const { return model_; }
+
+private:
+    struct Node {
+        int c0 = 0, c1 = 0, r0 = 0, r1 = 0;  // its cells: columns [c0, c1), rows [r0, r1)
+        int child[4] = {-1, -1, -1, -1};
+        Box box;
+        Vec3 axis = Vec3::UnitZ();
+        Scalar cosHalf = 1;  // every normal n has n . axis >= cosHalf (a cone of half-angle acos)
+        bool leaf() const { return child[0] < 0; }
+    };
+    int build(int c0, int c1, int r0, int r1);
+    void refitNode(int n);
+    void self(int n, std::vector<Pair>& out) const;
+    void cross(int a, int b, std::vector<Pair>& out) const;
+    void leafPairs(const Node& a, const Node& b, std::vector<Pair>& out) const;
+    bool far(Index u, Index v) const;  // more than kExcludedCells cells apart
+    bool farTriangle(Index v, Index t) const;
+    bool farEdges(Index e, Index f) const;
+
+    std::uint64_t model_ = 0;
+    int nx_ = 0, ny_ = 0;
+    std::vector<Node> nodes_;
+    std::vector<std::array<Index, 2>> edges_;
+    std::vector<Triangle> triangles_;
+    // Per cell: its triangles, the vertices and edges it owns.
+    std::vector<std::vector<Index>> cellTriangles_, cellVertices_, cellEdges_;
+    std::vector<Box> vertexBox_, edgeBox_, triangleBox_;
+    std::vector<Vec3> normal0_, normal1_;
+};
+
+}  // namespace cloth::contact

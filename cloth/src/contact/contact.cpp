@@ -1,0 +1,253 @@
+#include "cloth/contact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "contact/broad_phase.h"
+#include "contact/geometry.h"
+
+namespace cloth {
+
+using contact::Pair;
+
+namespace {
+
+constexpr Scalar kSelfShare = 0.45;   // of a self pair's gap: each side moves under half of it
+constexpr Scalar kSolidShare = 0.9;   // of a gap to a solid, which does not move
+constexpr int kMaxSubintervals = 64;  // beyond it the sub-intervals' moves grow: the bounds still hold
+
+// A solid's primitives near the cloth in this step.
+struct Near {
+    const Collider* solid = nullptr;
+    std::vector<Index> vertices, edges;
+};
+
+contact::Box boxOf(const Collider& c, Scalar margin) {
+    contact::Box b;
+    if (c.shape == Collider::Shape::Capsule) {
+        const Vec3 half = std::abs(c.halfExtents.x()) * c.axis;
+        b.add(c.center - half), b.add(c.center + half);
+        b.lo.array() -= c.radius, b.hi.array() += c.radius;
+    } else {  // a box: the corners' extent along the world axes
+        const Vec3 extent = c.rotation.cwiseAbs() * c.halfExtents;
+        b.add(c.center - extent), b.add(c.center + extent);
+    }
+    b.lo.array() -= margin, b.hi.array() += margin;
+    return b;
+}
+
+// A capsule's axis segment.
+std::pair<Vec3, Vec3> axisOf(const Collider& c) {
+    const Vec3 half = std::abs(c.halfExtents.x()) * c.axis;
+    return {c.center - half, c.center + half};
+}
+
+// In a capsule's cross-section: a point's 2D coordinates about the axis.
+Eigen::Vector2d across(const Collider& c, const Vec3& p) {
+    const Vec3 u = c.axis.unitOrthogonal(), w = c.axis.cross(u);
+    const Vec3 r = p - c.center;
+    return {r.dot(u), r.dot(w)};
+}
+
+}  // namespace
+
+struct ContactStage::Work {
+    Points y0, y1, y, target;
+    std::vector<Scalar> bound, invMass;
+    std::vector<std::uint8_t> active;
+    std::vector<Index> moving;  // the active free particles, in increasing order
+    std::vector<Pair> pairs;
+    std::vector<Near> near;
+    const Model* model = nullptr;
+    const std::vector<std::array<Index, 2>>* edges = nullptr;
+    Scalar thickness = 0;
+
+    void limit(Index i, Scalar b) { bound[i] = std::min(bound[i], std::max(Scalar(0), b)); }
+    void selfBounds();
+    void solidBounds();
+    void separate();
+    void pushApart(const Index* ids, const Scalar* weights, int n, const Vec3& normal, Scalar gap);
+};
+
+ContactStage::ContactStage() : broad_(std::make_unique<contact::BroadPhase>()), work_(std::make_unique<Work>()) {}
+ContactStage::~ContactStage() = default;
+ContactStage::ContactStage(ContactStage&&) noexcept = default;
+ContactStage& ContactStage::operator=(ContactStage&&) noexcept = default;
+
+// Bounds from the self pairs at the current positions: every particle of a pair under kSelfShare
+// of the pair's gap.
+void ContactStage::Work::selfBounds() {
+    const auto& tris = model->triangles();
+    for (const Pair& p : pairs) {
+        if (p.kind == Pair::Kind::VertexTriangle) {
+            const Triangle& t = tris[p.b];
+            const Scalar d = contact::closestOnTriangle(y.col(p.a), y.col(t[0]), y.col(t[1]), y.col(t[2])).distance;
+            for (Index i : {p.a, t[0], t[1], t[2]}) limit(i, kSelfShare * d);
+        } else {
+            const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
+            const Scalar d = contact::closestSegments(y.col(e[0]), y.col(e[1]), y.col(f[0]), y.col(f[1])).distance;
+            for (Index i : {e[0], e[1], f[0], f[1]}) limit(i, kSelfShare * d);
+        }
+    }
+}
+
+// Bounds from the solids: a free particle under kSolidShare of its gap to the solid, each end of
+// an edge under kSolidShare of the edge's gap; an edge from a pinned particle (which stays where it
+// is) keeps its free end out of the pinned one's shadow of a capsule.
+void ContactStage::Work::solidBounds() {
+    for (const Near& n : near) {
+        const Collider& c = *n.solid;
+        const bool capsule = c.shape == Collider::Shape::Capsule;
+        const auto [a, b] = axisOf(c);
+        for (Index i : n.vertices) {
+            const Scalar d = capsule ? contact::closestSegments(y.col(i), y.col(i), a, b).distance - c.radius
+                                     : contact::pointBoxDistance(y.col(i), c.center, c.rotation, c.halfExtents);
+            limit(i, kSolidShare * d);
+        }
+        for (Index e : n.edges) {
+            const Index i = (*edges)[e][0], j = (*edges)[e][1];
+            if (capsule && (invMass[i] == 0) != (invMass[j] == 0)) {
+                const Index pin = invMass[i] == 0 ? i : j, free = pin == i ? j : i;
+                limit(free, kSolidShare * contact::shadowDistance(across(c, y.col(pin)), across(c, y.col(free)), c.radius));
+                continue;
+            }
+            const Scalar d = capsule ? contact::closestSegments(y.col(i), y.col(j), a, b).distance - c.radius
+                                     : contact::segmentBoxDistance(y.col(i), y.col(j), c.center, c.rotation, c.halfExtents);
+            limit(i, kSolidShare * d), limit(j, kSolidShare * d);
+        }
+    }
+}
+
+// Moves the targets of n particles (weights w_k on the primitive's side, signs folded in) so that
+// their weighted sum gains `gap` along `normal` (position-based: inverse masses as weights).
+void ContactStage::Work::pushApart(const Index* ids, const Scalar* weights, int n, const Vec3& normal, Scalar gap) {
+    Scalar denom = 0;
+    for (int k = 0; k < n; ++k) denom += invMass[ids[k]] * weights[k] * weights[k];
+    if (denom <= 0 || gap <= 0) return;
+    const Scalar lambda = std::min(gap, thickness) / denom;
+    for (int k = 0; k < n; ++k) target.col(ids[k]) += (lambda * invMass[ids[k]] * weights[k]) * normal;
+}
+
+// Proximity: self pairs and edges near a capsule that would end the sub-interval closer than
+// `thickness` are pushed apart along the direction that separates them now.
+void ContactStage::Work::separate() {
+    const auto& tris = model->triangles();
+    for (const Pair& p : pairs) {
+        if (p.kind == Pair::Kind::VertexTriangle) {
+            const Triangle& t = tris[p.b];
+            const auto now = contact::closestOnTriangle(y.col(p.a), y.col(t[0]), y.col(t[1]), y.col(t[2]));
+            const Vec3 w = now.weights, c = w[0] * y.col(t[0]) + w[1] * y.col(t[1]) + w[2] * y.col(t[2]);
+            if (now.distance <= 0) continue;
+            const Vec3 n = (y.col(p.a) - c) / now.distance;
+            const Vec3 ct = w[0] * target.col(t[0]) + w[1] * target.col(t[1]) + w[2] * target.col(t[2]);
+            const Index ids[4] = {p.a, t[0], t[1], t[2]};
+            const Scalar ws[4] = {1, -w[0], -w[1], -w[2]};
+            pushApart(ids, ws, 4, n, thickness - (target.col(p.a) - ct).dot(n));
+        } else {
+            const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
+            const auto now = contact::closestSegments(y.col(e[0]), y.col(e[1]), y.col(f[0]), y.col(f[1]));
+            if (now.distance <= 0) continue;
+            auto at = [&](const Points& q, const std::array<Index, 2>& s, Scalar u) { return Vec3((1 - u) * q.col(s[0]) + u * q.col(s[1])); };
+            const Vec3 n = (at(y, e, now.s) - at(y, f, now.t)) / now.distance;
+            const Index ids[4] = {e[0], e[1], f[0], f[1]};
+            const Scalar ws[4] = {1 - now.s, now.s, -(1 - now.t), -now.t};
+            pushApart(ids, ws, 4, n, thickness - (at(target, e, now.s) - at(target, f, now.t)).dot(n));
+        }
+    }
+    for (const Near& n : near) {
+        if (n.solid->shape != Collider::Shape::Capsule) continue;
+        const auto [a, b] = axisOf(*n.solid);
+        for (Index e : n.edges) {
+            const Index i = (*edges)[e][0], j = (*edges)[e][1];
+            const auto now = contact::closestSegments(y.col(i), y.col(j), a, b);
+            const Vec3 p = (1 - now.s) * y.col(i) + now.s * y.col(j), q = (1 - now.t) * a + now.t * b;
+            if (now.distance <= 0) continue;
+            const Vec3 normal = (p - q) / now.distance;
+            const Vec3 pt = (1 - now.s) * target.col(i) + now.s * target.col(j);
+            const Index ids[2] = {i, j};
+            const Scalar ws[2] = {1 - now.s, now.s};
+            pushApart(ids, ws, 2, normal, n.solid->radius + thickness - (pt - q).dot(normal));
+        }
+    }
+}
+
+ContactReport ContactStage::apply(const Model& model, const std::vector<std::uint8_t>& pinned, const Points& xStart,
+                                  State& state, const RigidFrame& from, const RigidFrame& to,
+                                  const std::vector<Collider>& solids, const ContactSettings& settings, Scalar h) {
+    ContactReport report;
+    Work& w = *work_;
+    const Index n = model.particleCount();
+    const Eigen::Matrix3d r0 = from.rotation.toRotationMatrix().transpose(), r1 = to.rotation.toRotationMatrix().transpose();
+    w.y0 = r0 * (xStart.colwise() - from.position);
+    w.y1 = r1 * (state.x.colwise() - to.position);
+    broad_->refit(model, w.y0, w.y1, 2 * settings.thickness);
+    w.model = &model, w.edges = &broad_->edges(), w.thickness = settings.thickness;
+    w.pairs.clear();
+    if (settings.self) broad_->selfPairs(w.pairs);
+    w.near.clear();
+    for (const Collider& c : solids) {
+        Near nr{&c, {}, {}};
+        broad_->near(boxOf(c, 2 * settings.thickness), pinned, nr.vertices, nr.edges);
+        report.near += int(nr.vertices.size() + nr.edges.size());
+        if (!nr.vertices.empty() || !nr.edges.empty()) w.near.push_back(std::move(nr));
+    }
+    report.selfPairs = int(w.pairs.size());
+    // The particles the pairs and the solids' primitives involve.
+    w.active.assign(n, 0);
+    auto mark = [&](Index i) { w.active[i] = 1; };
+    for (const Pair& p : w.pairs) {
+        if (p.kind == Pair::Kind::VertexTriangle) {
+            mark(p.a);
+            for (Index i : model.triangles()[p.b]) mark(i);
+        } else {
+            for (Index e : {p.a, p.b}) mark(w.edges->at(e)[0]), mark(w.edges->at(e)[1]);
+        }
+    }
+    for (const Near& nr : w.near) {
+        for (Index i : nr.vertices) mark(i);
+        for (Index e : nr.edges) mark(w.edges->at(e)[0]), mark(w.edges->at(e)[1]);
+    }
+    w.moving.clear();
+    Scalar reach = 0;
+    w.invMass.assign(n, 1);
+    for (Index i = 0; i < n; ++i) {
+        if (pinned[i]) w.invMass[i] = 0;
+        if (!w.active[i] || pinned[i]) continue;
+        w.moving.push_back(i);
+        reach = std::max(reach, (w.y1.col(i) - w.y0.col(i)).norm());
+    }
+    if (w.moving.empty()) return report;
+    report.subintervals = std::clamp(int(std::ceil(reach / settings.maxMove)), 1, kMaxSubintervals);
+    w.y = w.y0;
+    w.target.resize(3, n);
+    w.bound.assign(n, std::numeric_limits<Scalar>::infinity());
+    for (int k = 1; k <= report.subintervals; ++k) {
+        const Scalar f = Scalar(k) / report.subintervals;
+        w.target = w.y0 + f * (w.y1 - w.y0);
+        w.separate();
+        std::fill(w.bound.begin(), w.bound.end(), std::numeric_limits<Scalar>::infinity());
+        w.selfBounds();
+        w.solidBounds();
+        for (Index i = 0; i < n; ++i) {
+            if (pinned[i]) {
+                w.y.col(i) = w.target.col(i);  // prescribed
+                continue;
+            }
+            if (!w.active[i]) continue;
+            Vec3 move = w.target.col(i) - w.y.col(i);
+            const Scalar len = move.norm();
+            if (len > w.bound[i]) move *= w.bound[i] / len, ++report.limited;
+            w.y.col(i) += move;
+        }
+    }
+    // Back in the world: each moved particle's correction becomes a change of its velocity.
+    for (Index i : w.moving) {
+        const Vec3 x = to.point(w.y.col(i));
+        state.v.col(i) += (x - state.x.col(i)) / h;
+        state.x.col(i) = x;
+    }
+    return report;
+}
+
+}  // namespace cloth
