@@ -62,7 +62,11 @@ void BroadPhase::prepare(const Model& model) {
             }
         }
     }
-    for (Index v = 0; v < model.particleCount(); ++v) cellVertices_[cellOf(v, v)].push_back(v);
+    row_.resize(model.particleCount()), col_.resize(model.particleCount());
+    for (Index v = 0; v < model.particleCount(); ++v) {
+        cellVertices_[cellOf(v, v)].push_back(v);
+        row_[v] = v / nx_, col_[v] = v % nx_;
+    }
     nodes_.clear();
     build(0, nx_ - 1, 0, ny_ - 1);
 }
@@ -134,7 +138,7 @@ void BroadPhase::refitNode(int n) {
 }
 
 bool BroadPhase::far(Index u, Index v) const {
-    return std::max(std::abs(u / nx_ - v / nx_), std::abs(u % nx_ - v % nx_)) > kExcludedCells;
+    return std::abs(row_[u] - row_[v]) > kExcludedCells || std::abs(col_[u] - col_[v]) > kExcludedCells;
 }
 
 bool BroadPhase::farTriangle(Index v, Index t) const {
@@ -190,7 +194,7 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
             cells(T, [&](int ct) {
                 for (Index v : cellVertices_[cv])
                     for (Index t : cellTriangles_[ct])
-                        if (farTriangle(v, t) && vertexBox_[v].overlaps(triangleBox_[t]))
+                        if (vertexBox_[v].overlaps(triangleBox_[t]) && farTriangle(v, t))
                             out.push_back({Pair::Kind::VertexTriangle, v, t});
             });
         });
@@ -200,7 +204,7 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
         cells(B, [&](int cb) {
             for (Index e : cellEdges_[ca])
                 for (Index f : cellEdges_[cb])
-                    if (farEdges(e, f) && edgeBox_[e].overlaps(edgeBox_[f])) out.push_back({Pair::Kind::EdgeEdge, e, f});
+                    if (edgeBox_[e].overlaps(edgeBox_[f]) && farEdges(e, f)) out.push_back({Pair::Kind::EdgeEdge, e, f});
         });
     });
 }

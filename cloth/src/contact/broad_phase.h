@@ -69,6 +69,7 @@ private:
 
     std::uint64_t model_ = 0;
     int nx_ = 0, ny_ = 0;
+    std::vector<int> row_, col_;  // each particle's place in the grid
     std::vector<Node> nodes_;
     std::vector<std::array<Index, 2>> edges_;
     std::vector<Triangle> triangles_;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 #include "contact/broad_phase.h"
@@ -63,12 +65,38 @@ struct ContactStage::Work {
     const std::vector<std::array<Index, 2>>* edges = nullptr;
     Scalar thickness = 0;
 
+    Points push;                   // this sub-interval's proximity pushes, at most `thickness` each
+    std::vector<Scalar> reachOf;   // each particle's move over the step
+
     void limit(Index i, Scalar b) { bound[i] = std::min(bound[i], std::max(Scalar(0), b)); }
+    void filter(Scalar thickness);
     void selfBounds();
     void solidBounds();
     void separate();
     void pushApart(const Index* ids, const Scalar* weights, int n, const Vec3& normal, Scalar gap);
 };
+
+// Keeps the pairs and the solids' primitives that can come within reach during the step: a
+// particle moves at most its straight move plus a push of `thickness` off it (pushes are capped),
+// so two primitives further apart than their particles' moves plus three thicknesses never meet.
+void ContactStage::Work::filter(Scalar thickness) {
+    const auto& tris = model->triangles();
+    auto moveOf = [&](std::initializer_list<Index> ids) {
+        Scalar m = 0;
+        for (Index i : ids) m = std::max(m, reachOf[i]);
+        return m;
+    };
+    std::erase_if(pairs, [&](const Pair& p) {
+        if (p.kind == Pair::Kind::VertexTriangle) {
+            const Triangle& t = tris[p.b];
+            const Scalar d = contact::closestOnTriangle(y0.col(p.a), y0.col(t[0]), y0.col(t[1]), y0.col(t[2])).distance;
+            return d >= reachOf[p.a] + moveOf({t[0], t[1], t[2]}) + 3 * thickness;
+        }
+        const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
+        const Scalar d = contact::closestSegments(y0.col(e[0]), y0.col(e[1]), y0.col(f[0]), y0.col(f[1])).distance;
+        return d >= moveOf({e[0], e[1]}) + moveOf({f[0], f[1]}) + 3 * thickness;
+    });
+}
 
 ContactStage::ContactStage() : broad_(std::make_unique<contact::BroadPhase>()), work_(std::make_unique<Work>()) {}
 ContactStage::~ContactStage() = default;
@@ -126,7 +154,7 @@ void ContactStage::Work::pushApart(const Index* ids, const Scalar* weights, int 
     for (int k = 0; k < n; ++k) denom += invMass[ids[k]] * weights[k] * weights[k];
     if (denom <= 0 || gap <= 0) return;
     const Scalar lambda = std::min(gap, thickness) / denom;
-    for (int k = 0; k < n; ++k) target.col(ids[k]) += (lambda * invMass[ids[k]] * weights[k]) * normal;
+    for (int k = 0; k < n; ++k) push.col(ids[k]) += (lambda * invMass[ids[k]] * weights[k]) * normal;
 }
 
 // Proximity: self pairs and edges near a capsule that would end the sub-interval closer than
@@ -182,6 +210,8 @@ ContactReport ContactStage::apply(const Model& model, const std::vector<std::uin
     w.y0 = r0 * (xStart.colwise() - from.position);
     w.y1 = r1 * (state.x.colwise() - to.position);
     broad_->refit(model, w.y0, w.y1, 2 * settings.thickness);
+    w.reachOf.resize(n);
+    for (Index i = 0; i < n; ++i) w.reachOf[i] = (w.y1.col(i) - w.y0.col(i)).norm();
     w.model = &model, w.edges = &broad_->edges(), w.thickness = settings.thickness;
     w.pairs.clear();
     if (settings.self) broad_->selfPairs(w.pairs);
@@ -192,6 +222,7 @@ ContactReport ContactStage::apply(const Model& model, const std::vector<std::uin
         report.near += int(nr.vertices.size() + nr.edges.size());
         if (!nr.vertices.empty() || !nr.edges.empty()) w.near.push_back(std::move(nr));
     }
+    w.filter(settings.thickness);
     report.selfPairs = int(w.pairs.size());
     // The particles the pairs and the solids' primitives involve.
     w.active.assign(n, 0);
@@ -225,7 +256,12 @@ ContactReport ContactStage::apply(const Model& model, const std::vector<std::uin
     for (int k = 1; k <= report.subintervals; ++k) {
         const Scalar f = Scalar(k) / report.subintervals;
         w.target = w.y0 + f * (w.y1 - w.y0);
+        w.push.setZero(3, n);
         w.separate();
+        for (Index i : w.moving) {  // each particle's pushes together at most `thickness`
+            const Scalar len = w.push.col(i).norm();
+            w.target.col(i) += len > settings.thickness ? Vec3(w.push.col(i) * (settings.thickness / len)) : Vec3(w.push.col(i));
+        }
         std::fill(w.bound.begin(), w.bound.end(), std::numeric_limits<Scalar>::infinity());
         w.selfBounds();
         w.solidBounds();

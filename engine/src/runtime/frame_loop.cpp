@@ -93,6 +93,7 @@ void Runtime::Impl::stepPhysics() {
     profiler.add(Phase::ClothForces, ft.forces);
     profiler.add(Phase::ClothSolve, ft.solve);
     profiler.add(Phase::Collision, ft.collision);
+    profiler.add(Phase::Contact, ft.contact);
 }
 
 // The view draws the frame (and the panel), the recording writes it.
