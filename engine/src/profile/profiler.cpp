@@ -13,7 +13,7 @@ namespace engine {
 const char* phaseName(Phase phase) {
     static const char* const names[kPhaseCount] = {"input",    "bullet",   "air",      "cloth_forces",
                                                    "cloth_solve", "collision", "render", "overlay",
-                                                   "readback", "aa", "panel",    "write"};
+                                                   "readback", "aa", "panel",    "write", "export_mesh"};
     return names[std::size_t(phase)];
 }
 
