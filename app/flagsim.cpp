@@ -41,6 +41,9 @@ int main(int argc, char** argv) {
     app.add_option("--trace", o.tracePath,
                    "write the run as a Chrome Trace Event JSON file (frames, phases, Bullet's zones) "
                    "for Perfetto UI (ui.perfetto.dev) or chrome://tracing");
+    app.add_option("--export-mesh", o.exportMeshDir,
+                   "write the flag's mesh after every frame as DIR/flag_NNNNNN.obj (Wavefront OBJ, world "
+                   "coordinates, exact to the bit; scenes with a cloth only)");
     app.add_flag("--overlay", o.overlay,
                  "draw the panel's graphs and stats (frame time per phase, stretch, iterations) into the "
                  "recorded frames; its cost is the profile's 'overlay' phase");

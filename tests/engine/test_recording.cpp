@@ -1,6 +1,6 @@
 // Recording integrity: an interrupted recording leaves only complete frames and a valid profile;
 // a full disk is a clear error; an existing output folder is not overwritten without --force; the
-// summary counts the solver's iterations.
+// summary counts the solver's iterations; --export-mesh is refused or writes a mesh per frame.
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -174,4 +175,39 @@ TEST(CommandLine, BadOptionsGiveAClearErrorAndANonZeroExit) {
         EXPECT_NE(code, 0) << joined;
         EXPECT_NE(err.find(c.expect), std::string::npos) << joined << "\nstderr: " << err;
     }
+}
+
+// --export-mesh is refused before the run starts, in one line and with exit code 2: a path that is
+// a file, a scene without a cloth (its folder is not made).
+TEST(CommandLine, ExportMeshIsRefusedInOneLineBeforeTheRun) {
+    const fs::path file = freshDir("flagsim_mesh_cli_file");
+    std::ofstream(file) << "not a folder";
+    const fs::path dir = freshDir("flagsim_mesh_cli");
+    const struct {
+        std::vector<std::string> args;
+        std::string stderrText;
+    } cases[] = {
+        {{"--scene", "bench_cloth", "--frames", "2", "--export-mesh", file.string()},
+         "flagsim: error: --export-mesh " + file.string() + ": is a file, not a folder\n"},
+        {{"--scene", "vehicle_only", "--frames", "2", "--export-mesh", dir.string()},
+         "flagsim: error: --export-mesh " + dir.string() +
+             ": scene 'vehicle_only' has no cloth (no 'cloth' subsystem), so there is no mesh to export\n"},
+    };
+    for (const auto& c : cases) {
+        const auto [code, err] = runDemo(c.args);
+        EXPECT_EQ(code, 2) << c.args[1];
+        EXPECT_EQ(err, c.stderrText) << c.args[1];
+    }
+    EXPECT_FALSE(fs::exists(dir));
+}
+
+// A cloth scene without rendering exports a mesh per frame, and nothing else, into the folder.
+TEST(Recording, ExportMeshWritesAnObjPerFrame) {
+    const fs::path dir = freshDir("flagsim_mesh_cli_frames");
+    const auto [code, err] = runDemo({"--scene", "bench_cloth", "--frames", "3", "--export-mesh", dir.string(), "--no-progress"});
+    EXPECT_EQ(code, 0) << err;
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"flag_000000.obj", "flag_000001.obj", "flag_000002.obj"}));
 }

@@ -1,6 +1,6 @@
 #pragma once
 // The engine runtime: builds only the subsystems a scene declares, runs the frame loop, and
-// writes what was asked for (frames, video, profile, summary).
+// writes what was asked for (frames, video, the flag's meshes, profile, summary).
 //
 // One frame, in order (a phase exists only when its subsystem does):
 //   input        actions from the script or the window (vehicle scenes)
@@ -8,6 +8,7 @@
 //                air, cloth_forces, cloth_solve, collision
 //   render       draw calls, readback (glFinish + glReadPixels)
 //   write        hand the frame to the PNG writer threads and the video encoder
+//   export_mesh  the flag's mesh written as an OBJ file (--export-mesh)
 // Simulated time advances exactly 1/fps per frame when headless or replaying, so the same scene
 // and script give the same frames; in a live window an accumulator follows the wall clock,
 // clamped to max_ticks_per_frame so a slow frame cannot spiral.
@@ -37,6 +38,7 @@ struct RunOptions {
     bool noProgress = false;
     std::string recordInput;
     std::string tracePath;      // empty: no trace; else a Chrome Trace Event JSON of the run
+    std::string exportMeshDir;  // empty: none; else the flag's mesh after every frame, DIR/flag_NNNNNN.obj
     bool overlay = false;       // the panel's graphs and stats drawn into the recorded frames
     int width = 0, height = 0;  // 0: the scene's
     std::string aa;             // empty: the scene's render.aa; else auto, off, msaa or post

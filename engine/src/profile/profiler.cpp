@@ -14,7 +14,7 @@ const char* phaseName(Phase phase) {
     static const char* const names[kPhaseCount] = {"input",    "bullet",   "air",      "cloth_forces",
                                                    "cloth_solve", "collision", "contact", "render",
                                                    "overlay",  "readback", "aa",       "panel",
-                                                   "write"};
+                                                   "write", "export_mesh"};
     return names[std::size_t(phase)];
 }
 

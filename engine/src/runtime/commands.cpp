@@ -114,7 +114,7 @@ PanelState Runtime::Impl::panelState() const {
     s.refusal = lastRefusal;
     s.antiAliasing = view ? view->antiAliasing() : "off";
     s.scenes = scenes;
-    if (recorder || recording) s.switchNote = "recording: one run of one scene (no switching)";
+    if (recorder || recording || meshExport) s.switchNote = "recording: one run of one scene (no switching)";
     s.hasFlag = flag != nullptr;
     s.hasAir = scene.subsystems & kAir;
     s.solver = scene.flag.solver;

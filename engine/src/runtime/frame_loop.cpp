@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <thread>
 
 #include "runtime/runtime_impl.h"
@@ -109,6 +110,18 @@ void Runtime::Impl::renderAndRecord() {
     }
 }
 
+// --export-mesh: the flag's state at the end of this frame's ticks (what was rendered), in its
+// own phase.
+void Runtime::Impl::exportMesh() {
+    if (!meshExport) return;
+    Profiler::Scope scope(profiler, Phase::ExportMesh);
+    char time[40];
+    std::snprintf(time, sizeof time, "%.17g", clock->simTime());
+    const std::string comment = "flagsim scene " + scene.name + " frame " + std::to_string(frame) + " time " + time +
+                                " s solver " + cloth::describe(scene.flag.solver);
+    meshExport->write(frame, comment, flag->state().x, flag->model().triangles());
+}
+
 // A window shows frames at the frame rate.
 void Runtime::Impl::pace() {
     if (!view || !view->hasWindow()) return;
@@ -130,6 +143,7 @@ bool Runtime::frame() {
     }
     m.stepPhysics();
     m.renderAndRecord();
+    m.exportMesh();
     m.profiler.endFrame();
     m.endFrame();
     ++m.frame;

@@ -1,5 +1,6 @@
-// What a run leaves: the recording's writers drained, the recorded input, profile.csv,
-// summary.json and the trace, each written to a temporary name and renamed.
+// What a run leaves: the recording's writers drained, the meshes' first write error (each mesh was
+// written as its frame ended), the recorded input, profile.csv, summary.json and the trace, each
+// written to a temporary name and renamed.
 
 #include <chrono>
 #include <cstdio>
@@ -40,6 +41,15 @@ int Runtime::finish() {
         if (!m.recording->finish(&f.framesWritten, &f.video, &error)) {
             f.writerError = error;
             std::fprintf(stderr, "flagsim: error: %s\n", error.c_str());
+            code = 1;
+        }
+    }
+    if (m.meshExport) {
+        f.meshDir = m.meshExport->dir();
+        f.meshesWritten = m.meshExport->written();
+        f.meshError = m.meshExport->error();
+        if (!m.meshExport->ok()) {
+            std::fprintf(stderr, "flagsim: error: %s\n", f.meshError.c_str());
             code = 1;
         }
     }

@@ -3,8 +3,10 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "engine/scene/config_error.h"
@@ -48,6 +50,36 @@ void checkTracePath(const std::string& path) {
         throw ConfigError("--trace " + path + ": folder " + folder.string() + " does not exist");
 }
 
+// Makes --export-mesh's folder (its parent must exist), refusing a file, a folder this process
+// cannot write into, and a non-empty folder unless --force, which removes an earlier run's meshes
+// (and only those) so the folder never mixes two runs.
+void prepareMeshDir(const std::string& dir, bool force) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const std::string option = "--export-mesh " + dir + ": ";
+    fs::path path(dir);
+    if (!path.has_filename()) path = path.parent_path();  // "meshes/" is the folder "meshes"
+    if (fs::exists(path, ec) && !fs::is_directory(path, ec)) throw ConfigError(option + "is a file, not a folder");
+    if (!fs::exists(path, ec)) {
+        const fs::path folder = path.parent_path();
+        if (!folder.empty() && !fs::is_directory(folder, ec))
+            throw ConfigError(option + "folder " + folder.string() + " does not exist");
+        fs::create_directory(path, ec);
+        if (ec) throw ConfigError(option + "cannot create folder: " + ec.message());
+    } else if (!fs::is_empty(path, ec) && !force) {
+        throw ConfigError(option + "folder exists and is not empty (use --force to write into it)");
+    } else if (force) {
+        for (const auto& e : fs::directory_iterator(path, ec)) {
+            const std::string name = e.path().filename().string();
+            const bool mesh = name.size() > 5 && name.rfind("flag_", 0) == 0 &&
+                              (name.ends_with(".obj") || name.ends_with(".obj.tmp"));
+            if (mesh) fs::remove(e.path(), ec);
+        }
+    }
+    if (access(path.c_str(), W_OK | X_OK) != 0)
+        throw ConfigError(option + "cannot write into folder: " + std::strerror(errno));
+}
+
 }  // namespace
 
 // Bullet worlds and GL contexts are counted where they are really constructed.
@@ -83,6 +115,9 @@ void Runtime::Impl::applyOptions() {
     if ((options.video || !options.outDir.empty()) && !(s.subsystems & kRender))
         std::fprintf(stderr, "flagsim: note: scene '%s' does not render: %s gets the profile and summary only\n",
                      s.name.c_str(), options.outDir.empty() ? "(no --out)" : options.outDir.c_str());
+    if (!options.exportMeshDir.empty() && !(s.subsystems & kCloth))
+        throw ConfigError("--export-mesh " + options.exportMeshDir + ": scene '" + s.name +
+                          "' has no cloth (no 'cloth' subsystem), so there is no mesh to export");
     if (options.outDir.empty()) s.subsystems &= ~kRecording;
     if (options.noFrames && !options.video) s.subsystems &= ~kRecording;
 }
@@ -121,6 +156,7 @@ void Runtime::Impl::enablePhases() {
         else if (subsystems & kWindow) p.enable(Phase::Panel);  // on screen only
     }
     if (subsystems & kRecording) p.enable(Phase::Write);
+    if (!opt.exportMeshDir.empty()) p.enable(Phase::ExportMesh);
 }
 
 // Builds the vehicle and its input: a script or the keyboard.
@@ -181,6 +217,10 @@ Runtime::Runtime(const SceneConfig& sceneIn, const RunOptions& options)
         checkTracePath(options.tracePath);
         m.trace = std::make_unique<Trace>();
         m.profiler.setTrace(m.trace.get());
+    }
+    if (!options.exportMeshDir.empty()) {  // after --out's folder, which may hold this one
+        prepareMeshDir(options.exportMeshDir, options.force);
+        m.meshExport = std::make_unique<MeshExport>(options.exportMeshDir);
     }
     m.planFrames();
     m.enablePhases();

@@ -17,6 +17,7 @@
 #include "engine/runtime.h"
 #include "engine/clock/tick_clock.h"
 #include "engine/profile/trace.h"
+#include "runtime/mesh_export.h"
 #include "runtime/recording.h"
 #include "runtime/scene_view.h"
 #include "runtime/vehicle_system.h"
@@ -45,6 +46,7 @@ struct Runtime::Impl {
     std::vector<cloth::Collider> staticColliders;
     std::unique_ptr<SceneView> view;         // kRender (+ kWindow)
     std::unique_ptr<Recording> recording;    // kRender + kRecording
+    std::unique_ptr<MeshExport> meshExport;  // --export-mesh (kCloth)
 
     int frame = 0, frames = 0;
     int simFrame = 0;           // frames that advanced the tick schedule (not paused)
@@ -74,6 +76,7 @@ struct Runtime::Impl {
     void readInput();
     void stepPhysics();
     void renderAndRecord();
+    void exportMesh();
     void endFrame();
     void pace();
     long long ticksThisFrame();

@@ -29,6 +29,8 @@ bool writeSummary(const std::string& path, const RunFacts& f, const Profiler& pr
                   {"iterations_max", f.iterationsMax},
                   {"linear_iterations_mean", f.linearIterationsMean}};
     j["recording"] = {{"frames_written", f.framesWritten}, {"video", f.video}, {"error", f.writerError}};
+    if (!f.meshDir.empty())
+        j["export_mesh"] = {{"dir", f.meshDir}, {"files_written", f.meshesWritten}, {"error", f.meshError}};
     nlohmann::json phases = nlohmann::json::object();
     const auto cols = profiler.columns();
     const auto stats = profiler.summary();

@@ -20,6 +20,9 @@ struct RunFacts {
     int framesWritten = 0;
     std::string video;  // path, or empty
     std::string writerError;
+    std::string meshDir;  // --export-mesh, or empty (then the summary has no "export_mesh")
+    int meshesWritten = 0;
+    std::string meshError;
 };
 
 // Writes to a temporary name and renames it into place. Returns false with *error set.

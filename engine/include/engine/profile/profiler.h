@@ -30,8 +30,9 @@ enum class Phase {
     AntiAlias,    // the post pass over the pixels read back                        [render.aa = post]
     Panel,        // the panel drawn on screen only                                 [window]
     Write,        // the frame handed to the PNG and video writers                  [recording]
+    ExportMesh,   // the flag's mesh written as DIR/flag_NNNNNN.obj                 [--export-mesh]
 };
-inline constexpr int kPhaseCount = 13;
+inline constexpr int kPhaseCount = 14;
 const char* phaseName(Phase phase);  // "input", "bullet", "cloth_forces", ...
 
 // One frame's milliseconds in each phase (0 in a phase the scene does not enable) and in all.
