@@ -1,7 +1,5 @@
 #include "cloth/cloth.h"
 
-#include <cstdio>
-#include <cstdlib>
 #include <optional>
 #include <stdexcept>
 
@@ -198,9 +196,6 @@ void Cloth::makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h) 
     contactReport_ = contactStage_.apply(model_, pinned_, xStart_, state_, from, to, solids_, settings_.contact, h);
     const auto t1 = Clock::now();
     profile_.contact += msBetween(t0, t1);
-    if (std::getenv("FLAGSIM_CONTACT_DEBUG"))
-        std::fprintf(stderr, "contact %.3f ms sub %d self %d near %d limited %d\n", msBetween(t0, t1), contactReport_.subintervals,
-                     contactReport_.selfPairs, contactReport_.near, contactReport_.limited);
     if (observer_) observer_->stageEnded(ClothStage::Contact, t0, t1);
 }
 

@@ -35,7 +35,7 @@ struct MultigridSettings {
     int threads = 1;
     enum class Precision { Double, Mixed, Float };
     Precision precision = Precision::Double;
-    std::optional<MultigridTuning> tuning;  // not a key; unset: settledTuning(*this)
+    std::optional<MultigridTuning> tuning = std::nullopt;  // not a key; unset: settledTuning(*this)
 };
 
 // The tuning the study settled for these settings: CG, except around one fixed cycle in double
