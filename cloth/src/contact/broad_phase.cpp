@@ -112,17 +112,21 @@ void BroadPhase::refitNode(int n) {
     node.box = Box{};
     if (node.leaf()) {
         Vec3 sum = Vec3::Zero();
-        std::vector<const Vec3*> normals;
-        for (int r = node.r0; r < node.r1; ++r)
-            for (int c = node.c0; c < node.c1; ++c)
-                for (Index t : cellTriangles_[r * (nx_ - 1) + c]) {
-                    node.box.add(triangleBox_[t]);
-                    sum += normal0_[t] + normal1_[t];
-                    normals.push_back(&normal0_[t]), normals.push_back(&normal1_[t]);
-                }
+        auto eachTriangle = [&](auto fn) {
+            for (int r = node.r0; r < node.r1; ++r)
+                for (int c = node.c0; c < node.c1; ++c)
+                    for (Index t : cellTriangles_[r * (nx_ - 1) + c]) fn(t);
+        };
+        eachTriangle([&](Index t) {
+            node.box.add(triangleBox_[t]);
+            sum += normal0_[t] + normal1_[t];
+        });
         node.axis = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
         node.cosHalf = 1;
-        for (const Vec3* m : normals) node.cosHalf = std::min(node.cosHalf, m->squaredNorm() > 0 ? m->dot(node.axis) : Scalar(-1));
+        eachTriangle([&](Index t) {
+            for (const Vec3* m : {&normal0_[t], &normal1_[t]})
+                node.cosHalf = std::min(node.cosHalf, m->squaredNorm() > 0 ? m->dot(node.axis) : Scalar(-1));
+        });
         return;
     }
     bool first = true;
