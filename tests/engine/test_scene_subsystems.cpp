@@ -18,6 +18,7 @@ std::vector<std::string> expectedPhases(unsigned s, bool contact) {
         p.insert(p.end(), {"cloth_forces", "cloth_solve"});
         if (s & kCollision) p.push_back("collision");
         if ((s & kCollision) && contact) p.push_back("contact");
+        if (s & kCollision) p.push_back("crossings");
     }
     // The software rasterizer the tests run on gets the post pass (render.aa = auto).
     if (s & kRender) p.insert(p.end(), {"render", "readback", "aa"});

@@ -12,7 +12,7 @@ namespace engine {
 
 const char* phaseName(Phase phase) {
     static const char* const names[kPhaseCount] = {"input",    "bullet",   "air",      "cloth_forces",
-                                                   "cloth_solve", "collision", "contact", "render",
+                                                   "cloth_solve", "collision", "contact", "crossings", "render",
                                                    "overlay",  "readback", "aa",       "panel",
                                                    "write", "export_mesh"};
     return names[std::size_t(phase)];

@@ -141,6 +141,7 @@ PanelState Runtime::Impl::panelState() const {
         const long long steps = flag->steps() - lastSteps;
         s.iterationsPerStep = steps > 0 ? double(flag->solverCounts().iterations - lastCounts.iterations) / steps : 0;
     }
+    if (crossings) s.crossings = crossings->tally().last, s.crossingsMax = crossings->tally().max;
     return s;
 }
 

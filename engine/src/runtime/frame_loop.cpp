@@ -42,6 +42,11 @@ void Runtime::Impl::tick() {
     if (flag) stepFlag(h);
     clock->countTick();
     if (flag) measurePinError();
+    if (crossings) {
+        Profiler::Scope scope(profiler, Phase::Crossings);
+        const cloth::Collider body = vehicle ? vehicle->bodyCollider() : cloth::Collider{};
+        crossings->count(*flag, carrier(), vehicle ? &body : nullptr);
+    }
 }
 
 // Steps the flag by h with its pole where the carrier is now, against the ground and, on a

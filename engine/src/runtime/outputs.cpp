@@ -36,6 +36,7 @@ int Runtime::finish() {
         f.clothFailures = m.flag->failures();
         f.firstClothFailure = m.flag->firstFailure();
     }
+    if (m.crossings) f.crossingsCounted = true, f.crossings = m.crossings->tally();
     if (m.recording) {
         std::string error;
         if (!m.recording->finish(&f.framesWritten, &f.video, &error)) {

@@ -148,6 +148,7 @@ void Runtime::Impl::enablePhases() {
         p.enable(Phase::ClothSolve);
         if (subsystems & kCollision) p.enable(Phase::Collision);
         if ((subsystems & kCollision) && scene.flag.contact.enabled) p.enable(Phase::Contact);
+        if (subsystems & kCollision) p.enable(Phase::Crossings);
     }
     if (subsystems & kRender) {
         p.enable(Phase::Render);
@@ -183,6 +184,7 @@ void Runtime::Impl::buildFlag() {
     std::vector<cloth::Collider> solids;  // the vehicle's body, beside the pole
     if (vehicle && (s.subsystems & kCollision)) solids.push_back(vehicle->bodySolid());
     flag = std::make_unique<Flag>(s, mount, pose, solids);
+    if (s.subsystems & kCollision) crossings = std::make_unique<CrossingWatch>(s, mount, true);
     flag->setTrace(trace.get());
     if (s.subsystems & kCollision) {
         cloth::Collider ground;  // the ground plane, y = 0

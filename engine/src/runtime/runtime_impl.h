@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/scene/command.h"
+#include "runtime/crossing_watch.h"
 #include "engine/flag/flag.h"
 #include "engine/scene/input_script.h"
 #include "engine/profile/profiler.h"
@@ -58,6 +59,7 @@ struct Runtime::Impl {
     std::optional<TickClock> clock;  // set by planFrames
     Clock::time_point nextFrame = Clock::now();
     double maxPinError = 0;
+    std::unique_ptr<CrossingWatch> crossings;  // kCollision: the flag's crossings after every tick
     std::string stopReason = "completed";
     int refusals = 0;           // commands refused so far (the panel's and the script's)
     std::string lastRefusal;    // the last one, and why (the panel shows it)

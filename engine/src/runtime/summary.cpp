@@ -29,6 +29,13 @@ bool writeSummary(const std::string& path, const RunFacts& f, const Profiler& pr
                   {"iterations_max", f.iterationsMax},
                   {"linear_iterations_mean", f.linearIterationsMean}};
     j["recording"] = {{"frames_written", f.framesWritten}, {"video", f.video}, {"error", f.writerError}};
+    if (f.crossingsCounted)
+        j["crossings"] = {{"ticks_with_crossings", f.crossings.ticks},
+                          {"max_in_a_tick", f.crossings.max},
+                          {"at_the_worst_tick", {{"pole_edges", f.crossings.worst.poleEdges},
+                                                 {"self_edges", f.crossings.worst.selfEdges},
+                                                 {"body_edges", f.crossings.worst.bodyEdges},
+                                                 {"ground_particles", f.crossings.worst.groundParticles}}}};
     if (!f.meshDir.empty())
         j["export_mesh"] = {{"dir", f.meshDir}, {"files_written", f.meshesWritten}, {"error", f.meshError}};
     nlohmann::json phases = nlohmann::json::object();

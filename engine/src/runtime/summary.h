@@ -1,6 +1,7 @@
 #pragma once
 // summary.json: what ran, and the profile summary per phase.
 
+#include "runtime/crossing_watch.h"
 #include <string>
 
 #include "engine/profile/profiler.h"
@@ -23,6 +24,8 @@ struct RunFacts {
     std::string meshDir;  // --export-mesh, or empty (then the summary has no "export_mesh")
     int meshesWritten = 0;
     std::string meshError;
+    bool crossingsCounted = false;  // the flag's crossings (kCollision), counted after every tick
+    CrossingTally crossings;
 };
 
 // Writes to a temporary name and renames it into place. Returns false with *error set.

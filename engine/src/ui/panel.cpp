@@ -85,6 +85,7 @@ void Panel::draw(const PanelState& s, int width, int height, double frameSeconds
         history_->add("p99 stretch %", 100 * s.p99Stretch);
         history_->add("max stretch %", 100 * s.maxStretch);
         history_->add("iterations / step", s.iterationsPerStep);
+        if (s.crossings >= 0) history_->add("crossings", s.crossings);
     }
     ImGuiIO& io = ImGui::GetIO();
     io.DisplaySize = ImVec2(float(width), float(height));

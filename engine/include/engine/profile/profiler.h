@@ -24,6 +24,7 @@ enum class Phase {
     ClothSolve,   // the solver's solve, integration and the cloth's constraints    [cloth]
     Collision,    // the flag against the pole, the vehicle and the ground          [collision]
     Contact,      // the flag's edges kept out of the solids and out of itself    [flag.contact]
+    Crossings,    // the flag's crossings counted (cloth/crossings.h)               [collision]
     Render,       // the scene drawn                                                [render]
     Overlay,      // the panel drawn into the recorded frames                       [--overlay]
     Readback,     // glFinish and the pixels read back                              [render]
@@ -32,7 +33,7 @@ enum class Phase {
     Write,        // the frame handed to the PNG and video writers                  [recording]
     ExportMesh,   // the flag's mesh written as DIR/flag_NNNNNN.obj                 [--export-mesh]
 };
-inline constexpr int kPhaseCount = 14;
+inline constexpr int kPhaseCount = 15;
 const char* phaseName(Phase phase);  // "input", "bullet", "cloth_forces", ...
 
 // One frame's milliseconds in each phase (0 in a phase the scene does not enable) and in all.
