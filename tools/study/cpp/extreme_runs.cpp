@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "cloth/crossings.h"
 #include "cloth/diagnostics.h"
 
 namespace study {
@@ -28,6 +29,19 @@ void record(ExtremeRun& r, const cloth::Diagnostics& d, const cloth::Cloth& flag
     if (t > x.duration - 1) r.lateStretch = std::max(r.lateStretch, d.maxStretch);
     for (cloth::Index i = 0; i < flag.model().particleCount(); ++i)
         r.maxSpeed = std::max(r.maxSpeed, (flag.state().v.col(i) - c.linearVelocity).norm());
+}
+
+// The crossings of the flag's state on carrier c: edges through the pole's solid (on its axis, the
+// pinned column's edges are its sleeve and are left out), and through the flag itself.
+int crossingsOf(const cloth::Cloth& flag, const engine::PoleMount& mount, const engine::RigidFrame& c, bool onAxis) {
+    cloth::CrossingScene scene;
+    scene.capsules.push_back({c.point(mount.base), c.point(mount.base + Eigen::Vector3d(0, mount.height, 0)), mount.radius});
+    std::vector<std::uint8_t> sleeve;
+    if (onAxis) {
+        sleeve.assign(std::size_t(flag.model().particleCount()), 0);
+        for (const cloth::Pin& p : flag.pins()) sleeve[std::size_t(p.particle)] = 1;
+    }
+    return cloth::countCrossings(flag.model(), flag.state().x, scene, onAxis ? &sleeve : nullptr).total();
 }
 
 }  // namespace
@@ -75,6 +89,9 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
         for (std::size_t p = 0; p < kPatchCounts.size(); ++p)
             patch[p].push_back(patchEnergy(flag.model(), flag.state(), c, kPatchCounts[p]));
         if (keepStates) r.states.push_back(flag.state());
+        const int crossings = crossingsOf(flag, mount, c, !engine::flagDescOf(s).onShell);
+        r.crossingsMax = std::max(r.crossingsMax, crossings);
+        r.crossingTicks += crossings > 0;
         // Stable (extreme_runs.h): finite and bounded; stretch is judged by the bounds instead.
         cloth::StabilityLimits limits;
         limits.maxStretch = std::numeric_limits<double>::infinity();

@@ -45,6 +45,10 @@ struct ExtremeRun {
     std::array<double, kPatchCounts.size()> patchEnergyLate{};
     double iterationsMean = 0;  // the solver's iterations per step (newton: Newton iterations)
     int iterationsMax = 0;
+    // Crossings (cloth/crossings.h), counted after every tick: the most in one tick (edges through
+    // the pole's solid, and edge-triangle pairs of the flag at least three cells apart), and the
+    // ticks with any.
+    int crossingsMax = 0, crossingTicks = 0;
     std::vector<cloth::State> states;  // the state after every tick, when kept (the reference)
 };
 

@@ -23,7 +23,7 @@ const char* const kHeader =
     "row,flag,path,size,config,solver,constraints,physics_hz,substeps,stable,failures,ms_per_tick,ms_per_frame,"
     "timing,traj_error,p99_stretch,peak_stretch,max_stretch,late_max_stretch,ke_patch_late,ref_p99_stretch,"
     "ref_peak_stretch,ref_ke_patch_late,energy_ratio,misses,iterations_mean,iterations_max,ke_mean,ke_late,"
-    "ke_patch4_late,ke_patch16_late,ke_windows,max_speed\n";
+    "ke_patch4_late,ke_patch16_late,ke_windows,max_speed,crossings,crossing_ticks\n";
 
 // A CSV line built field by field (numbers with 4 significant digits, as the study prints them).
 class Line {
@@ -137,6 +137,7 @@ private:
         l.number(r.patchEnergyLate[0] / ref.patchEnergyLate[0]).text(references_ ? missedBounds(r, ref, x_) : "");
         l.number(r.iterationsMean).integer(r.iterationsMax).number(r.energyMean).number(r.energyLate);
         l.number(r.patchEnergyLate[1]).number(r.patchEnergyLate[2]).text(windowsOf(r)).number(r.maxSpeed);
+        l.integer(r.crossingsMax).integer(r.crossingTicks);
         return l.str();
     }
 

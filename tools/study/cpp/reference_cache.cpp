@@ -14,7 +14,7 @@ namespace study {
 
 namespace {
 
-constexpr char kMagic[] = "flagsim reference 1\n";
+constexpr char kMagic[] = "flagsim reference 2\n";
 // Velocities are kept where a trajectory error restarts (every kHorizon); positions at every tick.
 const long kRestartEvery = std::lround(kHorizon * kReferenceHz);
 
@@ -53,6 +53,7 @@ void putRun(Writer& w, const ExtremeRun& r) {
                      r.energyLate, r.patchEnergyLate[0], r.patchEnergyLate[1], r.patchEnergyLate[2], r.iterationsMean})
         w.put(v);
     w.put(std::int32_t(r.iterationsMax));
+    w.put(std::int32_t(r.crossingsMax)), w.put(std::int32_t(r.crossingTicks));
     w.put(std::uint64_t(r.energyWindows.size()));
     w.put(r.energyWindows.data(), r.energyWindows.size());
     const std::uint64_t n = r.states.empty() ? 0 : std::uint64_t(r.states.front().x.cols());
@@ -72,6 +73,7 @@ bool getRun(Reader& in, ExtremeRun& r) {
                       &r.iterationsMean})
         *v = in.get<double>();
     r.iterationsMax = in.get<std::int32_t>();
+    r.crossingsMax = in.get<std::int32_t>(), r.crossingTicks = in.get<std::int32_t>();
     const auto windows = in.get<std::uint64_t>();
     if (!in.ok || windows > 1'000'000) return false;
     r.energyWindows.resize(windows);

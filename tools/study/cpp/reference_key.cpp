@@ -38,6 +38,8 @@ std::string flagKey(const engine::SceneConfig& s, const engine::PoleMount& mount
       << "\n";
     k << "collisions " << c.collisions << " " << numbers({c.thickness}) << "substeps " << c.substeps << " hz "
       << numbers({s.physicsHz}) << "\n";
+    k << "contact " << c.contact.enabled << " " << c.contact.self << " " << numbers({c.contact.thickness, c.contact.maxMove})
+      << "sleeve " << f.onShell << "\n";
     k << "pole " << vec(mount.base) << numbers({mount.height, mount.radius}) << vec(mount.trailing) << "\n";
     return k.str();
 }
@@ -95,7 +97,8 @@ const std::string& integratorVersion() {
         for (const cloth::State& st : r.states) h = fnv1a(st.v.data(), st.v.size() * sizeof(double), fnv1a(st.x.data(), st.x.size() * sizeof(double), h));
         const double figures[] = {double(r.stable), double(r.failures), r.maxStretch, r.peakStretch, r.p99Stretch,
                                   r.lateStretch, r.maxSpeed, r.energyMean, r.energyLate, r.patchEnergyLate[0],
-                                  r.patchEnergyLate[1], r.patchEnergyLate[2], r.iterationsMean, double(r.iterationsMax)};
+                                  r.patchEnergyLate[1], r.patchEnergyLate[2], r.iterationsMean, double(r.iterationsMax),
+                                  double(r.crossingsMax), double(r.crossingTicks)};
         h = fnv1a(figures, sizeof figures, h);
         h = fnv1a(r.energyWindows.data(), r.energyWindows.size() * sizeof(double), h);
         char b[20];

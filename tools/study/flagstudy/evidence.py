@@ -37,9 +37,10 @@ def keyed(name, rows, where):
 
 
 def differences(run_row, doc_row):
-    """'column: run vs committed' for each deterministic column that differs."""
-    return [f"{c}: {run_row[c]} vs {doc_row.get(c)}" for c in run_row
-            if deterministic(c) and run_row[c] != doc_row.get(c)]
+    """'column: run vs committed' for each deterministic column both have that differs (a column
+    the committed CSV does not have yet is no evidence either way: `compare` names them)."""
+    return [f"{c}: {run_row[c]} vs {doc_row[c]}" for c in run_row
+            if deterministic(c) and c in doc_row and run_row[c] != doc_row[c]]
 
 
 def compare(name, run_dir, docs_dir, marks):
@@ -51,6 +52,9 @@ def compare(name, run_dir, docs_dir, marks):
     docs = keyed(name, read(doc_path), doc_path)
     failures, marked = [], []
     shared = [k for k in run if k in docs]
+    missing = [c for c in (next(iter(run.values()), {}) or {}) if c not in (next(iter(docs.values()), {}) or {})]
+    if missing and shared:
+        print(f"{name}: columns the committed CSV does not have yet (not compared): {', '.join(missing)}")
     for k in shared:
         diff = differences(run[k], docs[k])
         mark = stale.mark_of(marks, name, docs[k])
