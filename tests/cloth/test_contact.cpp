@@ -131,3 +131,23 @@ TEST(Contact, ATeleportOfTheCarrierMovesNothingAndPinsStayPut) {
     EXPECT_LT((s.state.x - moved).cwiseAbs().maxCoeff(), 1e-12);
     EXPECT_EQ(s.state.x.col(0), moved.col(0));  // pinned: never moved
 }
+
+TEST(Contact, AParticlePressedIntoACapsuleStepAfterStepKeepsAGapOfATenthOfTheThickness) {
+    // Particle 3 is driven 1 cm into a rod of 1 cm radius in each of 200 steps. The bounds share
+    // out the gap less a tenth of the thickness, so the gap to the rod's surface never closes
+    // below that: shares of the whole gap would close 90% of it in every sub-interval, down to a
+    // gap that rounding flips into a crossing.
+    Sheet s = sheet(2, 2, 0.1, 0.1, Vec3(0, 0, 0));
+    const ContactSettings set = on();
+    const Collider pole = rod(0.1 + 0.01 + 0.005, 0.1, 0.01);  // 5 mm right of particle 3, at (0.1, 0.1)
+    ContactStage stage;
+    Scalar closest = 1;
+    for (int step = 0; step < 200; ++step) {
+        const Points start = s.state.x;
+        s.state.x(0, 3) += 0.01;
+        stage.apply(s.model, s.pinned, start, s.state, RigidFrame{}, RigidFrame{}, {pole}, set, 1.0 / 240);
+        closest = std::min(closest, fromAxis(s.state.x.col(3), 0.115, 0.1) - 0.01);
+    }
+    EXPECT_GE(closest, 0.1 * set.thickness * (1 - 1e-9));
+    EXPECT_LT(closest, 0.2 * set.thickness);  // pressed close: the floor is what holds it
+}

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 
 #include "contact/broad_phase.h"
@@ -17,6 +15,11 @@ namespace {
 
 constexpr Scalar kSelfShare = 0.45;   // of a self pair's gap: each side moves under half of it
 constexpr Scalar kSolidShare = 0.9;   // of a gap to a solid, which does not move
+// Of the thickness: the gap the bounds share out is the distance less this floor, so no gap ever
+// closes below it. Shares of the whole distance would let a pressed pair close 90% of what is
+// left in every sub-interval, down to a gap that the round trip into the carrier's frame and back
+// (a rounding of 1e-16 m) flips into a crossing.
+constexpr Scalar kFloor = 0.1;
 constexpr int kMaxSubintervals = 64;  // beyond it the sub-intervals' moves grow: the bounds still hold
 
 // A solid's primitives near the cloth in this step.
@@ -68,12 +71,18 @@ struct ContactStage::Work {
     Points push;                   // this sub-interval's proximity pushes, at most `thickness` each
     std::vector<Scalar> reachOf;   // each particle's move over the step
 
+    Scalar floor() const { return kFloor * thickness; }
     void limit(Index i, Scalar b) { bound[i] = std::min(bound[i], std::max(Scalar(0), b)); }
     void filter(Scalar thickness);
     void selfBounds();
     void solidBounds();
     void separate();
     void pushApart(const Index* ids, const Scalar* weights, int n, const Vec3& normal, Scalar gap);
+    void gather(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned, const Points& xStart, const State& state,
+                const RigidFrame& from, const RigidFrame& to, const std::vector<Collider>& solids,
+                const ContactSettings& settings, ContactReport& report);
+    Scalar markActive(const std::vector<std::uint8_t>& pinned);
+    void advance(Scalar f, const std::vector<std::uint8_t>& pinned, ContactReport& report);
 };
 
 // Keeps the pairs and the solids' primitives that can come within reach during the step: a
@@ -111,11 +120,11 @@ void ContactStage::Work::selfBounds() {
         if (p.kind == Pair::Kind::VertexTriangle) {
             const Triangle& t = tris[p.b];
             const Scalar d = contact::closestOnTriangle(y.col(p.a), y.col(t[0]), y.col(t[1]), y.col(t[2])).distance;
-            for (Index i : {p.a, t[0], t[1], t[2]}) limit(i, kSelfShare * d);
+            for (Index i : {p.a, t[0], t[1], t[2]}) limit(i, kSelfShare * (d - floor()));
         } else {
             const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
             const Scalar d = contact::closestSegments(y.col(e[0]), y.col(e[1]), y.col(f[0]), y.col(f[1])).distance;
-            for (Index i : {e[0], e[1], f[0], f[1]}) limit(i, kSelfShare * d);
+            for (Index i : {e[0], e[1], f[0], f[1]}) limit(i, kSelfShare * (d - floor()));
         }
     }
 }
@@ -131,18 +140,18 @@ void ContactStage::Work::solidBounds() {
         for (Index i : n.vertices) {
             const Scalar d = capsule ? contact::closestSegments(y.col(i), y.col(i), a, b).distance - c.radius
                                      : contact::pointBoxDistance(y.col(i), c.center, c.rotation, c.halfExtents);
-            limit(i, kSolidShare * d);
+            limit(i, kSolidShare * (d - floor()));
         }
         for (Index e : n.edges) {
             const Index i = (*edges)[e][0], j = (*edges)[e][1];
             if (capsule && (invMass[i] == 0) != (invMass[j] == 0)) {
                 const Index pin = invMass[i] == 0 ? i : j, free = pin == i ? j : i;
-                limit(free, kSolidShare * contact::shadowDistance(across(c, y.col(pin)), across(c, y.col(free)), c.radius));
+                limit(free, kSolidShare * (contact::shadowDistance(across(c, y.col(pin)), across(c, y.col(free)), c.radius) - floor()));
                 continue;
             }
             const Scalar d = capsule ? contact::closestSegments(y.col(i), y.col(j), a, b).distance - c.radius
                                      : contact::segmentBoxDistance(y.col(i), y.col(j), c.center, c.rotation, c.halfExtents);
-            limit(i, kSolidShare * d), limit(j, kSolidShare * d);
+            limit(i, kSolidShare * (d - floor())), limit(j, kSolidShare * (d - floor()));
         }
     }
 }
@@ -200,83 +209,104 @@ void ContactStage::Work::separate() {
     }
 }
 
+// The step's two ends in the carrier's frame, the self pairs and the solids' primitives that can
+// come within reach (report.selfPairs, report.near).
+void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned, const Points& xStart,
+                                const State& state, const RigidFrame& from, const RigidFrame& to,
+                                const std::vector<Collider>& solids, const ContactSettings& settings, ContactReport& report) {
+    const Index n = model->particleCount();
+    const Eigen::Matrix3d r0 = from.rotation.toRotationMatrix().transpose(), r1 = to.rotation.toRotationMatrix().transpose();
+    y0 = r0 * (xStart.colwise() - from.position);
+    y1 = r1 * (state.x.colwise() - to.position);
+    broad.refit(*model, y0, y1, 2 * settings.thickness);
+    reachOf.resize(n);
+    for (Index i = 0; i < n; ++i) reachOf[i] = (y1.col(i) - y0.col(i)).norm();
+    edges = &broad.edges(), thickness = settings.thickness;
+    pairs.clear();
+    if (settings.self) broad.selfPairs(pairs);
+    near.clear();
+    for (const Collider& c : solids) {
+        Near nr{&c, {}, {}};
+        broad.near(boxOf(c, 2 * settings.thickness), pinned, nr.vertices, nr.edges);
+        report.near += int(nr.vertices.size() + nr.edges.size());
+        if (!nr.vertices.empty() || !nr.edges.empty()) near.push_back(std::move(nr));
+    }
+    filter(settings.thickness);
+    report.selfPairs = int(pairs.size());
+}
+
+// The particles the pairs and the solids' primitives involve (active), the free ones among them
+// (moving) and the inverse masses; returns the longest move of a moving particle.
+Scalar ContactStage::Work::markActive(const std::vector<std::uint8_t>& pinned) {
+    const Index n = model->particleCount();
+    active.assign(n, 0);
+    auto mark = [&](Index i) { active[i] = 1; };
+    auto markEdge = [&](Index e) { mark((*edges)[e][0]), mark((*edges)[e][1]); };
+    for (const Pair& p : pairs) {
+        if (p.kind == Pair::Kind::VertexTriangle) {
+            mark(p.a);
+            for (Index i : model->triangles()[p.b]) mark(i);
+        } else {
+            markEdge(p.a), markEdge(p.b);
+        }
+    }
+    for (const Near& nr : near) {
+        for (Index i : nr.vertices) mark(i);
+        for (Index e : nr.edges) markEdge(e);
+    }
+    moving.clear();
+    Scalar reach = 0;
+    invMass.assign(n, 1);
+    for (Index i = 0; i < n; ++i) {
+        if (pinned[i]) invMass[i] = 0;
+        if (!active[i] || pinned[i]) continue;
+        moving.push_back(i);
+        reach = std::max(reach, reachOf[i]);
+    }
+    return reach;
+}
+
+// One sub-interval, to the fraction f of the step: targets on the straight path plus the
+// proximity pushes, then every active particle moved toward its target within its bound.
+void ContactStage::Work::advance(Scalar f, const std::vector<std::uint8_t>& pinned, ContactReport& report) {
+    const Index n = model->particleCount();
+    target = y0 + f * (y1 - y0);
+    push.setZero(3, n);
+    separate();
+    for (Index i : moving) {  // each particle's pushes together at most `thickness`
+        const Scalar len = push.col(i).norm();
+        target.col(i) += len > thickness ? Vec3(push.col(i) * (thickness / len)) : Vec3(push.col(i));
+    }
+    std::fill(bound.begin(), bound.end(), std::numeric_limits<Scalar>::infinity());
+    selfBounds();
+    solidBounds();
+    for (Index i = 0; i < n; ++i) {
+        if (pinned[i]) {
+            y.col(i) = target.col(i);  // prescribed
+            continue;
+        }
+        if (!active[i]) continue;
+        Vec3 move = target.col(i) - y.col(i);
+        const Scalar len = move.norm();
+        if (len > bound[i]) move *= bound[i] / len, ++report.limited;
+        y.col(i) += move;
+    }
+}
+
 ContactReport ContactStage::apply(const Model& model, const std::vector<std::uint8_t>& pinned, const Points& xStart,
                                   State& state, const RigidFrame& from, const RigidFrame& to,
                                   const std::vector<Collider>& solids, const ContactSettings& settings, Scalar h) {
     ContactReport report;
     Work& w = *work_;
-    const Index n = model.particleCount();
-    const Eigen::Matrix3d r0 = from.rotation.toRotationMatrix().transpose(), r1 = to.rotation.toRotationMatrix().transpose();
-    w.y0 = r0 * (xStart.colwise() - from.position);
-    w.y1 = r1 * (state.x.colwise() - to.position);
-    broad_->refit(model, w.y0, w.y1, 2 * settings.thickness);
-    w.reachOf.resize(n);
-    for (Index i = 0; i < n; ++i) w.reachOf[i] = (w.y1.col(i) - w.y0.col(i)).norm();
-    w.model = &model, w.edges = &broad_->edges(), w.thickness = settings.thickness;
-    w.pairs.clear();
-    if (settings.self) broad_->selfPairs(w.pairs);
-    w.near.clear();
-    for (const Collider& c : solids) {
-        Near nr{&c, {}, {}};
-        broad_->near(boxOf(c, 2 * settings.thickness), pinned, nr.vertices, nr.edges);
-        report.near += int(nr.vertices.size() + nr.edges.size());
-        if (!nr.vertices.empty() || !nr.edges.empty()) w.near.push_back(std::move(nr));
-    }
-    w.filter(settings.thickness);
-    report.selfPairs = int(w.pairs.size());
-    // The particles the pairs and the solids' primitives involve.
-    w.active.assign(n, 0);
-    auto mark = [&](Index i) { w.active[i] = 1; };
-    for (const Pair& p : w.pairs) {
-        if (p.kind == Pair::Kind::VertexTriangle) {
-            mark(p.a);
-            for (Index i : model.triangles()[p.b]) mark(i);
-        } else {
-            for (Index e : {p.a, p.b}) mark(w.edges->at(e)[0]), mark(w.edges->at(e)[1]);
-        }
-    }
-    for (const Near& nr : w.near) {
-        for (Index i : nr.vertices) mark(i);
-        for (Index e : nr.edges) mark(w.edges->at(e)[0]), mark(w.edges->at(e)[1]);
-    }
-    w.moving.clear();
-    Scalar reach = 0;
-    w.invMass.assign(n, 1);
-    for (Index i = 0; i < n; ++i) {
-        if (pinned[i]) w.invMass[i] = 0;
-        if (!w.active[i] || pinned[i]) continue;
-        w.moving.push_back(i);
-        reach = std::max(reach, (w.y1.col(i) - w.y0.col(i)).norm());
-    }
+    w.model = &model;
+    w.gather(*broad_, pinned, xStart, state, from, to, solids, settings, report);
+    const Scalar reach = w.markActive(pinned);
     if (w.moving.empty()) return report;
     report.subintervals = std::clamp(int(std::ceil(reach / settings.maxMove)), 1, kMaxSubintervals);
     w.y = w.y0;
-    w.target.resize(3, n);
-    w.bound.assign(n, std::numeric_limits<Scalar>::infinity());
-    for (int k = 1; k <= report.subintervals; ++k) {
-        const Scalar f = Scalar(k) / report.subintervals;
-        w.target = w.y0 + f * (w.y1 - w.y0);
-        w.push.setZero(3, n);
-        w.separate();
-        for (Index i : w.moving) {  // each particle's pushes together at most `thickness`
-            const Scalar len = w.push.col(i).norm();
-            w.target.col(i) += len > settings.thickness ? Vec3(w.push.col(i) * (settings.thickness / len)) : Vec3(w.push.col(i));
-        }
-        std::fill(w.bound.begin(), w.bound.end(), std::numeric_limits<Scalar>::infinity());
-        w.selfBounds();
-        w.solidBounds();
-        for (Index i = 0; i < n; ++i) {
-            if (pinned[i]) {
-                w.y.col(i) = w.target.col(i);  // prescribed
-                continue;
-            }
-            if (!w.active[i]) continue;
-            Vec3 move = w.target.col(i) - w.y.col(i);
-            const Scalar len = move.norm();
-            if (len > w.bound[i]) move *= w.bound[i] / len, ++report.limited;
-            w.y.col(i) += move;
-        }
-    }
+    w.target.resize(3, model.particleCount());
+    w.bound.assign(model.particleCount(), std::numeric_limits<Scalar>::infinity());
+    for (int k = 1; k <= report.subintervals; ++k) w.advance(Scalar(k) / report.subintervals, pinned, report);
     // Back in the world: each moved particle's correction becomes a change of its velocity.
     for (Index i : w.moving) {
         const Vec3 x = to.point(w.y.col(i));
