@@ -79,6 +79,14 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
         (*j)["flag"].erase("solver");
     }
     EXPECT_EQ(a, b);
+    // The contact scene is the demo's scene but for the flag's contact.
+    nlohmann::json c = nlohmann::json::parse(std::ifstream(kScenes + "flag_vehicle_contact.json"));
+    nlohmann::json d = nlohmann::json::parse(std::ifstream(kScenes + "flag_vehicle.json"));
+    for (nlohmann::json* j : {&c, &d}) {
+        for (const char* key : {"name", "description"}) j->erase(key);
+        (*j)["flag"].erase("contact");
+    }
+    EXPECT_EQ(c, d);
 }
 
 TEST(Scene, SolverKeysFollowTheSolverTable) {

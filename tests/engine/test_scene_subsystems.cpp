@@ -29,8 +29,8 @@ std::vector<std::string> expectedPhases(unsigned s, bool contact) {
 }  // namespace
 
 TEST(SceneSubsystems, EveryShippedSceneProfilesExactlyItsDeclaredPhases) {
-    for (const char* name : {"flag_vehicle", "flag_vehicle_stiff", "flag_vehicle_true_motion", "hanging_flag", "bench_cloth",
-                             "vehicle_only"}) {
+    for (const char* name : {"flag_vehicle", "flag_vehicle_stiff", "flag_vehicle_true_motion", "flag_vehicle_contact", "hanging_flag",
+                             "bench_cloth", "vehicle_only"}) {
         SceneConfig s = loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/" + name + ".json");
         s.render.width = 160;
         s.render.height = 90;
