@@ -16,6 +16,8 @@ error is in % of the flag's width ("n/a" where the run has none, e.g. above --tr
 The bounds judge stretch and flutter, not the path the cloth takes, so a second choice also asks for
 a trajectory error of at most 2% of the width (TRAJ).
 The shipped columns are config `shipped`: the flag as its scene ships it, and the bounds it misses.
+A row that DIR/stale.csv marks (flagstudy/stale.py) is no evidence: it is never the cheapest, and a
+matrix shows it as "stale".
 study.py check-docs compares docs/study.md's copy of the table with table(docs/study/front.csv).
 """
 import csv
@@ -23,6 +25,8 @@ import math
 import os
 import re
 import sys
+
+from flagstudy import stale
 
 FLAGS = ["demo", "stiff"]
 PATHS = ["drive", "speed_50mps", "stop_10g", "spin_5radps", "teleport_1m", "light_particles", "gale_40mps"]
@@ -83,7 +87,7 @@ def groups(rows):
 
 def table_row(here, flag, path, size):
     """One group's cells: its cheapest configuration within every bound and its shipped row."""
-    fits = [r for r in here if within(r) and not r["config"].startswith("reference")
+    fits = [r for r in here if not is_stale(r) and within(r) and not r["config"].startswith("reference")
             and num(r["ms_per_frame"]) is not None]
     close = [r for r in fits if num(r["traj_error"]) is not None and num(r["traj_error"]) <= TRAJ]
     cells = [f"{flag} / {path}", size]
@@ -130,15 +134,29 @@ def matrix(rows, flag, size):
         cells = []
         for p in paths:
             found = [r for r in here if r["config"] == c and r["path"] == p]
-            cells.append(matrix_cell(found[0]) if found else "-")
+            cells.append(("stale" if is_stale(found[0]) else matrix_cell(found[0])) if found else "-")
         lines.append(f"| `{c}` | " + " | ".join(cells) + " |")
     return lines
 
 
+class Marked(dict):
+    """A row that stale.csv marks (is_stale: the checks' StaleRow has its `mark` too)."""
+
+    def __init__(self, row, mark):
+        super().__init__(row)
+        self.mark = mark
+
+
+def is_stale(r):
+    return getattr(r, "mark", None) is not None
+
+
 def read(d):
-    """front.csv's rows in d."""
+    """front.csv's rows in d, those d's stale.csv marks as Marked."""
+    marks = stale.read_marks(d)
     with open(os.path.join(d, "front.csv"), newline="") as f:
-        return list(csv.DictReader(f))
+        rows = list(csv.DictReader(f))
+    return [Marked(r, m) if (m := stale.mark_of(marks, "front.csv", r)) else r for r in rows]
 
 
 def update(path, rows):
