@@ -63,6 +63,7 @@ struct ContactStage::Work {
     std::vector<std::uint8_t> active;
     std::vector<Index> moving;  // the active free particles, in increasing order
     std::vector<Pair> pairs;
+    std::vector<Scalar> gap;  // each self pair's distance at the sub-interval's start
     std::vector<Near> near;
     const Model* model = nullptr;
     const std::vector<std::array<Index, 2>>* edges = nullptr;
@@ -112,19 +113,19 @@ ContactStage::~ContactStage() = default;
 ContactStage::ContactStage(ContactStage&&) noexcept = default;
 ContactStage& ContactStage::operator=(ContactStage&&) noexcept = default;
 
-// Bounds from the self pairs at the current positions: every particle of a pair under kSelfShare
-// of the pair's gap.
+// Bounds from the self pairs at the current positions (their gaps, which separate() measured):
+// every particle of a pair under kSelfShare of the pair's gap less the floor.
 void ContactStage::Work::selfBounds() {
     const auto& tris = model->triangles();
-    for (const Pair& p : pairs) {
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const Pair& p = pairs[k];
+        const Scalar b = kSelfShare * (gap[k] - floor());
         if (p.kind == Pair::Kind::VertexTriangle) {
             const Triangle& t = tris[p.b];
-            const Scalar d = contact::closestOnTriangle(y.col(p.a), y.col(t[0]), y.col(t[1]), y.col(t[2])).distance;
-            for (Index i : {p.a, t[0], t[1], t[2]}) limit(i, kSelfShare * (d - floor()));
+            for (Index i : {p.a, t[0], t[1], t[2]}) limit(i, b);
         } else {
             const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
-            const Scalar d = contact::closestSegments(y.col(e[0]), y.col(e[1]), y.col(f[0]), y.col(f[1])).distance;
-            for (Index i : {e[0], e[1], f[0], f[1]}) limit(i, kSelfShare * (d - floor()));
+            for (Index i : {e[0], e[1], f[0], f[1]}) limit(i, b);
         }
     }
 }
@@ -167,13 +168,17 @@ void ContactStage::Work::pushApart(const Index* ids, const Scalar* weights, int 
 }
 
 // Proximity: self pairs and edges near a capsule that would end the sub-interval closer than
-// `thickness` are pushed apart along the direction that separates them now.
+// `thickness` are pushed apart along the direction that separates them now; each self pair's gap
+// now is kept for its bounds (gap).
 void ContactStage::Work::separate() {
     const auto& tris = model->triangles();
-    for (const Pair& p : pairs) {
+    gap.resize(pairs.size());
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const Pair& p = pairs[k];
         if (p.kind == Pair::Kind::VertexTriangle) {
             const Triangle& t = tris[p.b];
             const auto now = contact::closestOnTriangle(y.col(p.a), y.col(t[0]), y.col(t[1]), y.col(t[2]));
+            gap[k] = now.distance;
             const Vec3 w = now.weights, c = w[0] * y.col(t[0]) + w[1] * y.col(t[1]) + w[2] * y.col(t[2]);
             if (now.distance <= 0) continue;
             const Vec3 n = (y.col(p.a) - c) / now.distance;
@@ -184,6 +189,7 @@ void ContactStage::Work::separate() {
         } else {
             const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
             const auto now = contact::closestSegments(y.col(e[0]), y.col(e[1]), y.col(f[0]), y.col(f[1]));
+            gap[k] = now.distance;
             if (now.distance <= 0) continue;
             auto at = [&](const Points& q, const std::array<Index, 2>& s, Scalar u) { return Vec3((1 - u) * q.col(s[0]) + u * q.col(s[1])); };
             const Vec3 n = (at(y, e, now.s) - at(y, f, now.t)) / now.distance;
