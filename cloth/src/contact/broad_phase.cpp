@@ -1,6 +1,7 @@
 #include "contact/broad_phase.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -190,25 +191,45 @@ void BroadPhase::cross(int a, int b, std::vector<Pair>& out) const {
 
 void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out) const {
     auto cells = [&](const Node& n, auto fn) {
+        int k = 0;
         for (int r = n.r0; r < n.r1; ++r)
-            for (int c = n.c0; c < n.c1; ++c) fn(r * (nx_ - 1) + c);
+            for (int c = n.c0; c < n.c1; ++c) fn(r * (nx_ - 1) + c, k++);
+    };
+    // A primitive whose box misses the other node's box meets none of its primitives (their boxes
+    // lie in it): flagged once per node pair and skipped, which keeps the pairs and their order.
+    using Flags = std::array<std::array<bool, 8>, 4>;  // a leaf: at most 2 x 2 cells
+    auto flag = [&](const Node& n, const std::vector<std::vector<Index>>& lists, const std::vector<Box>& boxes,
+                    const Box& other) {
+        Flags f{};
+        cells(n, [&](int cell, int k) {
+            for (std::size_t i = 0; i < lists[cell].size() && i < 8; ++i) f[k][i] = boxes[lists[cell][i]].overlaps(other);
+        });
+        return f;
     };
     auto vertexTriangles = [&](const Node& V, const Node& T) {
-        cells(V, [&](int cv) {
-            cells(T, [&](int ct) {
-                for (Index v : cellVertices_[cv])
+        const Flags in = flag(V, cellVertices_, vertexBox_, T.box);
+        cells(V, [&](int cv, int kv) {
+            cells(T, [&](int ct, int) {
+                for (std::size_t i = 0; i < cellVertices_[cv].size(); ++i) {
+                    const Index v = cellVertices_[cv][i];
+                    if (i < 8 && !in[kv][i]) continue;
                     for (Index t : cellTriangles_[ct])
                         if (vertexBox_[v].overlaps(triangleBox_[t]) && farTriangle(v, t))
                             out.push_back({Pair::Kind::VertexTriangle, v, t});
+                }
             });
         });
     };
     vertexTriangles(A, B), vertexTriangles(B, A);
-    cells(A, [&](int ca) {
-        cells(B, [&](int cb) {
-            for (Index e : cellEdges_[ca])
+    const Flags inB = flag(A, cellEdges_, edgeBox_, B.box);
+    cells(A, [&](int ca, int ka) {
+        cells(B, [&](int cb, int) {
+            for (std::size_t i = 0; i < cellEdges_[ca].size(); ++i) {
+                const Index e = cellEdges_[ca][i];
+                if (i < 8 && !inB[ka][i]) continue;
                 for (Index f : cellEdges_[cb])
                     if (edgeBox_[e].overlaps(edgeBox_[f]) && farEdges(e, f)) out.push_back({Pair::Kind::EdgeEdge, e, f});
+            }
         });
     });
 }
