@@ -96,15 +96,25 @@ void ContactStage::Work::filter(Scalar thickness) {
         for (Index i : ids) m = std::max(m, reachOf[i]);
         return m;
     };
+    // The distance between the two primitives' boxes at the start: a lower bound of theirs, which
+    // drops most pairs before the exact distance is computed.
+    auto boxGap = [&](std::initializer_list<Index> a, std::initializer_list<Index> b) {
+        contact::Box ba, bb;
+        for (Index i : a) ba.add(y0.col(i));
+        for (Index i : b) bb.add(y0.col(i));
+        return (ba.lo - bb.hi).cwiseMax(bb.lo - ba.hi).cwiseMax(0).norm();
+    };
     std::erase_if(pairs, [&](const Pair& p) {
         if (p.kind == Pair::Kind::VertexTriangle) {
             const Triangle& t = tris[p.b];
-            const Scalar d = contact::closestOnTriangle(y0.col(p.a), y0.col(t[0]), y0.col(t[1]), y0.col(t[2])).distance;
-            return d >= reachOf[p.a] + moveOf({t[0], t[1], t[2]}) + 3 * thickness;
+            const Scalar reach = reachOf[p.a] + moveOf({t[0], t[1], t[2]}) + 3 * thickness;
+            if (boxGap({p.a}, {t[0], t[1], t[2]}) >= reach) return true;
+            return contact::closestOnTriangle(y0.col(p.a), y0.col(t[0]), y0.col(t[1]), y0.col(t[2])).distance >= reach;
         }
         const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
-        const Scalar d = contact::closestSegments(y0.col(e[0]), y0.col(e[1]), y0.col(f[0]), y0.col(f[1])).distance;
-        return d >= moveOf({e[0], e[1]}) + moveOf({f[0], f[1]}) + 3 * thickness;
+        const Scalar reach = moveOf({e[0], e[1]}) + moveOf({f[0], f[1]}) + 3 * thickness;
+        if (boxGap({e[0], e[1]}, {f[0], f[1]}) >= reach) return true;
+        return contact::closestSegments(y0.col(e[0]), y0.col(e[1]), y0.col(f[0]), y0.col(f[1])).distance >= reach;
     });
 }
 
