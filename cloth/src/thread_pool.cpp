@@ -10,7 +10,7 @@ void chunk(int n, int parts, int index, int& begin, int& end) {
 }  // namespace
 
 ThreadPool::ThreadPool(int threads) : threads_(threads < 1 ? 1 : threads), spans_(std::size_t(threads_)) {
-    for (int i = 1; i < threads_; ++i) workers_.emplace_back([this, i] { worker(i); });
+    for (int i = 1; i < threads_; ++i) workers_.emplace_back([this] { worker(); });
 }
 
 ThreadPool::~ThreadPool() {
@@ -28,19 +28,33 @@ void ThreadPool::run(int n, const std::function<void(int, int)>& fn) {
     job_ = &fn;
     n_ = n;
     timed_ = bool(observer_);
-    pending_.store(threads_ - 1, std::memory_order_relaxed);
-    generation_.fetch_add(1, std::memory_order_acq_rel);  // publishes job_ and n_
+    for (Span& s : spans_) s.ran = false;
+    done_.store(0, std::memory_order_relaxed);
+    next_.store(0, std::memory_order_release);  // publishes job_, n_ and the spans
+    generation_.fetch_add(1, std::memory_order_acq_rel);
     generation_.notify_all();
-    int begin, end;
-    chunk(n, threads_, 0, begin, end);
-    fn(begin, end);
-    for (int spins = 0; pending_.load(std::memory_order_acquire) != 0; ++spins)
+    claimChunks();  // chunk 0 first, then any a worker has not started: a late worker costs no wait
+    for (int spins = 0; done_.load(std::memory_order_acquire) != threads_; ++spins)
         if (spins > 1000) std::this_thread::yield();
     if (timed_)
-        for (int w = 1; w < threads_; ++w) observer_(w, spans_[std::size_t(w)].begin, spans_[std::size_t(w)].end);
+        for (int c = 1; c < threads_; ++c)
+            if (spans_[std::size_t(c)].ran) observer_(c, spans_[std::size_t(c)].begin, spans_[std::size_t(c)].end);
 }
 
-void ThreadPool::worker(int index) {
+// Runs chunks of the current region until none is left to claim (each is claimed exactly once).
+void ThreadPool::claimChunks() {
+    for (int c; (c = next_.fetch_add(1, std::memory_order_acq_rel)) < threads_;) {
+        int begin, end;
+        chunk(n_, threads_, c, begin, end);
+        Span& span = spans_[std::size_t(c)];
+        if (timed_) span.begin = Clock::now();
+        (*job_)(begin, end);
+        if (timed_) span.end = Clock::now(), span.ran = true;
+        done_.fetch_add(1, std::memory_order_acq_rel);
+    }
+}
+
+void ThreadPool::worker() {
     unsigned seen = 0;
     for (;;) {
         // Spin for a while (the next region usually follows within tens of microseconds: a
@@ -58,12 +72,7 @@ void ThreadPool::worker(int index) {
         }
         seen = g;
         if (stop_.load(std::memory_order_acquire)) return;
-        int begin, end;
-        chunk(n_, threads_, index, begin, end);
-        if (timed_) spans_[std::size_t(index)].begin = Clock::now();
-        (*job_)(begin, end);
-        if (timed_) spans_[std::size_t(index)].end = Clock::now();
-        pending_.fetch_sub(1, std::memory_order_acq_rel);
+        claimChunks();
     }
 }
 

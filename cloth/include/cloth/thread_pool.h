@@ -2,7 +2,10 @@
 // A small persistent thread pool for data-parallel loops. `run(n, fn)` splits [0, n) into one
 // contiguous chunk per thread; the split depends only on n and the thread count, and each index
 // is processed by exactly one call, so a kernel that writes only its own indices gives the same
-// bits for any thread count. Workers spin for up to kSpin between jobs: a cloth step has many
+// bits for any thread count. Each chunk is claimed once, by whichever thread gets to it first: the
+// calling thread takes chunk 0, then every chunk no worker has started, so a worker that the
+// scheduler has taken off its core (the other core busy, as in a game) costs the region no wait
+// unless it is inside its chunk. Workers spin for up to kSpin between jobs: a cloth step has many
 // short parallel regions and a sleeping thread takes longer to wake than a region lasts; after
 // that they sleep on the counter (futex), so an idle pool costs nothing.
 
@@ -22,22 +25,25 @@ public:
     ThreadPool& operator=(const ThreadPool&) = delete;
 
     int threads() const { return threads_; }
-    // Calls fn(begin, end) for each chunk; the calling thread takes chunk 0. Returns when all are done.
+    // Calls fn(begin, end) for each chunk; the calling thread takes chunk 0 and any chunk not yet
+    // started. Returns when all are done.
     void run(int n, const std::function<void(int, int)>& fn);
 
-    // When each worker (1 .. threads-1) ran its chunk of a parallel region, told on the calling
-    // thread once the region is done (a profiler's timeline). Null, the default: nothing is timed.
+    // When each chunk 1 .. threads-1 of a parallel region ran (labelled as worker c), told on the
+    // calling thread once the region is done (a profiler's timeline). Null, the default: nothing is timed.
     using Clock = std::chrono::steady_clock;
     using Observer = std::function<void(int worker, Clock::time_point begin, Clock::time_point end)>;
     void setObserver(Observer observer) { observer_ = std::move(observer); }
 
 private:
     static constexpr std::chrono::microseconds kSpin{100};
-    void worker(int index);
+    void worker();
+    void claimChunks();
     int threads_;
     std::vector<std::thread> workers_;
     std::atomic<unsigned> generation_{0};
-    std::atomic<int> pending_{0};
+    std::atomic<int> next_{0};  // the next chunk to claim (past threads_: none left)
+    std::atomic<int> done_{0};  // chunks finished
     std::atomic<bool> stop_{false};
     const std::function<void(int, int)>* job_ = nullptr;
     int n_ = 0;
@@ -45,8 +51,9 @@ private:
     bool timed_ = false;  // this region's workers time their chunks (published with the job)
     struct Span {
         Clock::time_point begin, end;
+        bool ran = false;
     };
-    std::vector<Span> spans_;  // per worker, read once pending_ is 0
+    std::vector<Span> spans_;  // per chunk, read once done_ is threads_
 };
 
 // fn(begin, end) over [0, n): on the pool's threads, or all here when there is no pool.
