@@ -113,12 +113,25 @@ def front(docs, flag, path, config, size="33"):
     return one(docs.rows("front.csv"), "front.csv", flag=flag, path=path, config=config, size=str(size))
 
 
-def misses_on(docs, flag, config, size="33"):
+def is_stale(r):
+    """Whether stale.csv marks the row (a StaleRow: only its key may be read)."""
+    return isinstance(r, StaleRow)
+
+
+def stale_paths(docs, flag, config, size="33"):
+    """The front's paths whose row of config stale.csv marks."""
+    return [p for p in PATHS if is_stale(front(docs, flag, p, config, size))]
+
+
+def misses_on(docs, flag, config, size="33", skip_stale=False):
     """The front's paths where config misses a bound (or is unstable): {path: "unstable" or the
-    misses as front.csv writes them, ';'-separated}; empty when it is within every bound."""
+    misses as front.csv writes them, ';'-separated}; empty when it is within every bound. With
+    skip_stale, the paths whose row stale.csv marks are left out (else reading one fails)."""
     out = {}
     for p in PATHS:
         r = front(docs, flag, p, config, size)
+        if skip_stale and is_stale(r):
+            continue
         if not stable(r) or r["misses"]:
             out[p] = "unstable" if not stable(r) else r["misses"]
     return out

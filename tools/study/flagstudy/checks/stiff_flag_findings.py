@@ -63,25 +63,34 @@ def c_reference_converges_under_halving(docs):
 def c_implicit_steps_damp_the_flutter(docs):
     damped = [c for c in LONG_STEPS if c.startswith("newton") or c in ("desbrun", "kangcho_16")]
     worst = max(num(front(docs, "stiff", p, c)["energy_ratio"]) for c in damped for p in FLUTTER)
-    need(worst < 0.25, f"front.csv: an implicit step of 1/240 s or longer keeps {worst:.2f}x of the patch flutter (docs: under 0.25x)")
+    need(worst < 0.5, f"front.csv: an implicit step of 1/240 s or longer keeps {worst:.2f}x of the patch flutter (docs: under 0.5x)")
+    bdf2 = num(front(docs, "stiff", "gale_40mps", "newton_bdf2_240")["energy_ratio"])
+    rest = max(num(front(docs, "stiff", p, c)["energy_ratio"]) for c in damped for p in FLUTTER
+               if (p, c) != ("gale_40mps", "newton_bdf2_240"))
+    need(bdf2 == worst and rest < 0.2, f"front.csv: BDF2 at 1/240 s keeps {bdf2:.2f}x in the gale, the rest at most {rest:.2f}x "
+                                       "(docs: it the most, the rest under 0.2x)")
     mg = [front(docs, "stiff", p, "multigrid") for p in FLUTTER]
     need(all(0.5 <= num(r["energy_ratio"]) <= 2 and "p99" in r["misses"] for r in mg),
          "front.csv: multigrid keeps the flutter and misses p99 at 50 m/s and in the gale (docs)")
     kept = ", ".join(f"{num(r['energy_ratio']):.2f}x" for r in mg)
     return (f"the implicit steps of 1/240 s or longer with the air fully coupled (newton, any cap), desbrun and 16 Jacobi "
             f"sweeps keep at most {worst:.2f}x of the "
-            f"reference's 8x8 patch flutter at 50 m/s and in the gale; the linearized multigrid step keeps "
-            f"{kept} and misses p99 and peak")
+            f"reference's 8x8 patch flutter at 50 m/s and in the gale (BDF2 at 1/240 s in the gale; the rest at most "
+            f"{rest:.2f}x); the linearized multigrid step keeps {kept} and misses p99")
 
 
 def c_small_implicit_steps_cost_the_most(docs):
     fine = {c: misses_on(docs, "stiff", c) for c in ("newton_bdf2_960", "newton_bdf2_960_2", "newton_bdf2_1920")}
-    need(not any(fine.values()), f"front.csv: BDF2 in steps of 1/960 s or less misses {fine} (docs: within every bound)")
+    want = {"newton_bdf2_960": {}, "newton_bdf2_960_2": {}, "newton_bdf2_1920": {"teleport_1m": "peak"}}
+    need(fine == want, f"front.csv: BDF2 in steps of 1/960 s or less misses {fine} "
+                       "(docs: at 1/960 s within every bound; at 1/1920 s the teleport's peak alone)")
+    peak = num(front(docs, "stiff", "teleport_1m", "newton_bdf2_1920")["peak_stretch"])
     shipped = num(front(docs, "stiff", "drive", "shipped")["ms_per_frame"])
     cost = {c: num(front(docs, "stiff", "drive", c)["ms_per_frame"]) for c in fine}
     need(min(cost.values()) > 5 * shipped, f"front.csv: on the drive BDF2 in small steps costs {cost} ms (docs: over 5x the shipped {shipped:.1f})")
-    return (f"converged BDF2 in steps of 1/960 and 1/1920 s (and capped at two iterations) is within every bound on all seven "
-            f"paths, at {min(cost.values()) / shipped:.0f}-{max(cost.values()) / shipped:.0f}x the shipped step's cost on the drive")
+    return (f"BDF2 in steps of 1/960 s, converged and capped at two iterations, is within every bound on all seven paths; "
+            f"converged at 1/1920 s it misses the 1 m teleport's peak ({peak:.1%}); "
+            f"{min(cost.values()) / shipped:.0f}-{max(cost.values()) / shipped:.0f}x the shipped step's cost on the drive")
 
 
 def c_xpbd_keeps_flutter_not_stretch(docs):
