@@ -144,11 +144,17 @@ namespace {
 
 // Runs flagsim to completion; returns its exit code and what it printed on stderr.
 std::pair<int, std::string> runDemo(const std::vector<std::string>& args) {
-    const fs::path err = fs::temp_directory_path() / "flagsim_stderr.txt";
+    // One file per test process: ctest runs the tests of this file in parallel processes.
+    const fs::path err = fs::temp_directory_path() / ("flagsim_stderr_" + std::to_string(getpid()) + ".txt");
     const pid_t pid = spawnDemo(args, err.string());
     const int code = waitExit(pid);
-    std::ifstream in(err);
-    return {code, std::string(std::istreambuf_iterator<char>(in), {})};
+    std::string text;
+    {
+        std::ifstream in(err);
+        text.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    fs::remove(err);
+    return {code, text};
 }
 
 }  // namespace
