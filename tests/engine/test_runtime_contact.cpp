@@ -6,22 +6,17 @@
 
 #include "cloth/crossings.h"
 #include "engine/runtime.h"
+#include "headless_scene.h"
 
 using namespace engine;
 
 namespace {
 
-SceneConfig headless(const char* name) {
-    SceneConfig s = loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/" + name + ".json");
-    s.subsystems &= ~(kRender | kRecording | kWindow);
-    return s;
-}
-
 // The most self crossings (edge through a triangle at least three cells away) after any frame.
 int mostSelfCrossings(const char* scene, int frames) {
     RunOptions o;
     o.frames = frames;
-    Runtime rt(headless(scene), o);
+    Runtime rt(headlessScene(scene), o);
     int most = 0;
     while (rt.frame()) {
         const cloth::CrossingCounts c = cloth::countCrossings(rt.flag()->model(), rt.flag()->state().x, cloth::CrossingScene{});
@@ -33,7 +28,7 @@ int mostSelfCrossings(const char* scene, int frames) {
 }  // namespace
 
 TEST(RuntimeContact, TheDemoFlagWithContactNeverPassesThroughItselfWhereWithoutItDoes) {
-    const SceneConfig a = headless("flag_vehicle"), b = headless("flag_vehicle_contact");
+    const SceneConfig a = headlessScene("flag_vehicle"), b = headlessScene("flag_vehicle_contact");
     EXPECT_FALSE(a.flag.contact.enabled);
     EXPECT_TRUE(b.flag.contact.enabled);
     EXPECT_TRUE(b.flag.contact.self);

@@ -4,25 +4,16 @@
 #include <gtest/gtest.h>
 
 #include "engine/runtime.h"
+#include "headless_scene.h"
 
 using namespace engine;
-
-namespace {
-
-SceneConfig headless(const char* name) {
-    SceneConfig s = loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/" + name + ".json");
-    s.subsystems &= ~(kRender | kRecording | kWindow);
-    return s;
-}
-
-}  // namespace
 
 TEST(RuntimeVehicle, ThePolesNeighboursFollowItAlongTheDrivenPath) {
     // The pins' targets lie on one vertical line of the pole, a row spacing apart, and every
     // pinned particle's free neighbour stays within a stretched spring of its pin, while the
     // vehicle drives the slalom and brakes hard. (Where the pinned particles themselves end up
     // cannot fail a test: the step assigns them their targets.)
-    const SceneConfig scene = headless("flag_vehicle");
+    const SceneConfig scene = headlessScene("flag_vehicle");
     RunOptions o;
     o.duration = 6;  // accelerate, slalom, into the hard brake
     Runtime rt(scene, o);
@@ -47,7 +38,7 @@ TEST(RuntimeVehicle, ThePolesNeighboursFollowItAlongTheDrivenPath) {
 }
 
 TEST(RuntimeVehicle, FlagTrailsBehindAtSpeedAndHangsAtRest) {
-    SceneConfig s = headless("flag_vehicle");
+    SceneConfig s = headlessScene("flag_vehicle");
     s.script = std::string(FLAGSIM_ASSETS_DIR) + "/scripts/cruise.json";
     RunOptions o;
     o.duration = 7;
@@ -69,7 +60,7 @@ TEST(RuntimeVehicle, FlagTrailsBehindAtSpeedAndHangsAtRest) {
     // vehicle has settled on its wheels (1.5 s; the paper's step with 3 anti-stretch passes and
     // tethers at 1% threw it 0.3 m above it, and about half the configurations of
     // docs/study/rest_climb.csv rise over it).
-    SceneConfig still = headless("flag_vehicle");
+    SceneConfig still = headlessScene("flag_vehicle");
     still.script.clear();
     RunOptions o2;
     o2.duration = 5;
@@ -88,7 +79,7 @@ TEST(RuntimeVehicle, VehicleOnlySceneHasNoClothPhases) {
     RunOptions o;
     o.frames = 10;
     const SubsystemCounters before = subsystemCounters();
-    Runtime rt(headless("vehicle_only"), o);
+    Runtime rt(headlessScene("vehicle_only"), o);
     while (rt.frame()) {
     }
     EXPECT_EQ(rt.flag(), nullptr);
