@@ -1,6 +1,7 @@
 #include "cloth/contact.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -21,6 +22,10 @@ constexpr Scalar kSolidShare = 0.9;   // of a gap to a solid, which does not mov
 // (a rounding of 1e-16 m) flips into a crossing.
 constexpr Scalar kFloor = 0.1;
 constexpr int kMaxSubintervals = 64;  // beyond it the sub-intervals' moves grow: the bounds still hold
+// m: a pair is left unmeasured only when its lower bound clears what it is compared with by this
+// much, far above the rounding of the bound (1e-16 m), so that its exact distance would have
+// changed nothing (contact.h: the same moves, bit for bit).
+constexpr Scalar kSlack = 1e-9;
 
 // A solid's primitives near the cloth in this step.
 struct Near {
@@ -63,7 +68,12 @@ struct ContactStage::Work {
     std::vector<std::uint8_t> active;
     std::vector<Index> moving;  // the active free particles, in increasing order
     std::vector<Pair> pairs;
-    std::vector<Scalar> gap;  // each self pair's distance at the sub-interval's start
+    std::vector<std::array<Index, 4>> ids;  // each pair's particles: the vertex and the triangle's, or both edges'
+    std::vector<Scalar> gap;                // each self pair's distance when last measured
+    std::vector<std::array<Scalar, 4>> snap;  // its particles' travel then
+    std::vector<std::uint8_t> fresh;        // measured in this sub-interval
+    std::vector<Scalar> travel;             // each particle's path length so far in this step
+    std::vector<Scalar> need, len;          // each particle's move to its target, before and with its pushes
     std::vector<Near> near;
     const Model* model = nullptr;
     const std::vector<std::array<Index, 2>>* edges = nullptr;
@@ -73,6 +83,24 @@ struct ContactStage::Work {
     std::vector<Scalar> reachOf;   // each particle's move over the step
 
     Scalar floor() const { return kFloor * thickness; }
+    // A pair's approach from per-particle moves m: the vertex's plus the farthest of the triangle's
+    // corners, or the farthest end of each edge (a point of a triangle or of a segment moves at most
+    // as far as its farthest corner).
+    template <class F>
+    Scalar approach(std::size_t k, F m) const {
+        const auto& q = ids[k];
+        if (pairs[k].kind == Pair::Kind::VertexTriangle) return m(0, q[0]) + std::max({m(1, q[1]), m(2, q[2]), m(3, q[3])});
+        return std::max(m(0, q[0]), m(1, q[1])) + std::max(m(2, q[2]), m(3, q[3]));
+    }
+    // A lower bound of pair k's distance now: its last measured gap less its particles' travel since.
+    Scalar gapBound(std::size_t k) const {
+        return gap[k] - approach(k, [&](int j, Index i) { return travel[i] - snap[k][j]; });
+    }
+    void measured(std::size_t k, Scalar distance) {
+        gap[k] = distance, fresh[k] = 1;
+        for (int j = 0; j < 4; ++j) snap[k][j] = travel[ids[k][j]];
+    }
+    Scalar distanceNow(std::size_t k) const;
     void limit(Index i, Scalar b) { bound[i] = std::min(bound[i], std::max(Scalar(0), b)); }
     void filter(Scalar thickness);
     void selfBounds();
@@ -89,6 +117,7 @@ struct ContactStage::Work {
 // Keeps the pairs and the solids' primitives that can come within reach during the step: a
 // particle moves at most its straight move plus a push of `thickness` off it (pushes are capped),
 // so two primitives further apart than their particles' moves plus three thicknesses never meet.
+// A kept pair's distance at the start is its first measured gap.
 void ContactStage::Work::filter(Scalar thickness) {
     const auto& tris = model->triangles();
     auto moveOf = [&](std::initializer_list<Index> ids) {
@@ -104,18 +133,36 @@ void ContactStage::Work::filter(Scalar thickness) {
         for (Index i : b) bb.add(y0.col(i));
         return (ba.lo - bb.hi).cwiseMax(bb.lo - ba.hi).cwiseMax(0).norm();
     };
-    std::erase_if(pairs, [&](const Pair& p) {
+    std::size_t kept = 0;
+    ids.clear(), gap.clear();
+    for (const Pair& p : pairs) {
+        std::array<Index, 4> q;
         if (p.kind == Pair::Kind::VertexTriangle) {
             const Triangle& t = tris[p.b];
-            const Scalar reach = reachOf[p.a] + moveOf({t[0], t[1], t[2]}) + 3 * thickness;
-            if (boxGap({p.a}, {t[0], t[1], t[2]}) >= reach) return true;
-            return contact::closestOnTriangle(y0.col(p.a), y0.col(t[0]), y0.col(t[1]), y0.col(t[2])).distance >= reach;
+            q = {p.a, t[0], t[1], t[2]};
+        } else {
+            const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
+            q = {e[0], e[1], f[0], f[1]};
         }
-        const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
-        const Scalar reach = moveOf({e[0], e[1]}) + moveOf({f[0], f[1]}) + 3 * thickness;
-        if (boxGap({e[0], e[1]}, {f[0], f[1]}) >= reach) return true;
-        return contact::closestSegments(y0.col(e[0]), y0.col(e[1]), y0.col(f[0]), y0.col(f[1])).distance >= reach;
-    });
+        const bool vt = p.kind == Pair::Kind::VertexTriangle;
+        const Scalar reach = (vt ? reachOf[q[0]] + moveOf({q[1], q[2], q[3]}) : moveOf({q[0], q[1]}) + moveOf({q[2], q[3]})) +
+                             3 * thickness;
+        if (vt ? boxGap({q[0]}, {q[1], q[2], q[3]}) >= reach : boxGap({q[0], q[1]}, {q[2], q[3]}) >= reach) continue;
+        const Scalar d = vt ? contact::closestOnTriangle(y0.col(q[0]), y0.col(q[1]), y0.col(q[2]), y0.col(q[3])).distance
+                            : contact::closestSegments(y0.col(q[0]), y0.col(q[1]), y0.col(q[2]), y0.col(q[3])).distance;
+        if (d >= reach) continue;
+        pairs[kept++] = p, ids.push_back(q), gap.push_back(d);
+    }
+    pairs.resize(kept);
+    snap.assign(kept, {0, 0, 0, 0});
+}
+
+// Pair k's exact distance at the current positions.
+Scalar ContactStage::Work::distanceNow(std::size_t k) const {
+    const auto& q = ids[k];
+    if (pairs[k].kind == Pair::Kind::VertexTriangle)
+        return contact::closestOnTriangle(y.col(q[0]), y.col(q[1]), y.col(q[2]), y.col(q[3])).distance;
+    return contact::closestSegments(y.col(q[0]), y.col(q[1]), y.col(q[2]), y.col(q[3])).distance;
 }
 
 ContactStage::ContactStage() : broad_(std::make_unique<contact::BroadPhase>()), work_(std::make_unique<Work>()) {}
@@ -123,20 +170,19 @@ ContactStage::~ContactStage() = default;
 ContactStage::ContactStage(ContactStage&&) noexcept = default;
 ContactStage& ContactStage::operator=(ContactStage&&) noexcept = default;
 
-// Bounds from the self pairs at the current positions (their gaps, which separate() measured):
-// every particle of a pair under kSelfShare of the pair's gap less the floor.
+// Bounds from the self pairs at the current positions: every particle of a pair under kSelfShare
+// of the pair's gap less the floor. A pair that separate() did not measure is measured only if the
+// bound from its gap's lower bound could bind one of its particles' moves (len): if it cannot, the
+// exact bound, which is larger, cannot either, and the pair changes nothing.
 void ContactStage::Work::selfBounds() {
-    const auto& tris = model->triangles();
     for (std::size_t k = 0; k < pairs.size(); ++k) {
-        const Pair& p = pairs[k];
-        const Scalar b = kSelfShare * (gap[k] - floor());
-        if (p.kind == Pair::Kind::VertexTriangle) {
-            const Triangle& t = tris[p.b];
-            for (Index i : {p.a, t[0], t[1], t[2]}) limit(i, b);
-        } else {
-            const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
-            for (Index i : {e[0], e[1], f[0], f[1]}) limit(i, b);
+        if (!fresh[k]) {
+            const Scalar longest = std::max({len[ids[k][0]], len[ids[k][1]], len[ids[k][2]], len[ids[k][3]]});
+            if (kSelfShare * (gapBound(k) - floor()) >= longest + kSlack) continue;
+            measured(k, distanceNow(k));
         }
+        const Scalar b = kSelfShare * (gap[k] - floor());
+        for (Index i : ids[k]) limit(i, b);
     }
 }
 
@@ -178,17 +224,18 @@ void ContactStage::Work::pushApart(const Index* ids, const Scalar* weights, int 
 }
 
 // Proximity: self pairs and edges near a capsule that would end the sub-interval closer than
-// `thickness` are pushed apart along the direction that separates them now; each self pair's gap
-// now is kept for its bounds (gap).
+// `thickness` are pushed apart along the direction that separates them now. A self pair whose
+// gap's lower bound less its approach on the way to the targets (need) clears `thickness` cannot
+// end that close and is not measured; a measured pair's gap is kept for its bounds.
 void ContactStage::Work::separate() {
     const auto& tris = model->triangles();
-    gap.resize(pairs.size());
     for (std::size_t k = 0; k < pairs.size(); ++k) {
         const Pair& p = pairs[k];
+        if (gapBound(k) - approach(k, [&](int, Index i) { return need[i]; }) >= thickness + kSlack) continue;
         if (p.kind == Pair::Kind::VertexTriangle) {
             const Triangle& t = tris[p.b];
             const auto now = contact::closestOnTriangle(y.col(p.a), y.col(t[0]), y.col(t[1]), y.col(t[2]));
-            gap[k] = now.distance;
+            measured(k, now.distance);
             const Vec3 w = now.weights, c = w[0] * y.col(t[0]) + w[1] * y.col(t[1]) + w[2] * y.col(t[2]);
             if (now.distance <= 0) continue;
             const Vec3 n = (y.col(p.a) - c) / now.distance;
@@ -199,7 +246,7 @@ void ContactStage::Work::separate() {
         } else {
             const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
             const auto now = contact::closestSegments(y.col(e[0]), y.col(e[1]), y.col(f[0]), y.col(f[1]));
-            gap[k] = now.distance;
+            measured(k, now.distance);
             if (now.distance <= 0) continue;
             auto at = [&](const Points& q, const std::array<Index, 2>& s, Scalar u) { return Vec3((1 - u) * q.col(s[0]) + u * q.col(s[1])); };
             const Vec3 n = (at(y, e, now.s) - at(y, f, now.t)) / now.distance;
@@ -287,24 +334,28 @@ Scalar ContactStage::Work::markActive(const std::vector<std::uint8_t>& pinned) {
 void ContactStage::Work::advance(Scalar f, const std::vector<std::uint8_t>& pinned, ContactReport& report) {
     const Index n = model->particleCount();
     target = y0 + f * (y1 - y0);
+    for (Index i = 0; i < n; ++i) need[i] = active[i] ? (target.col(i) - y.col(i)).norm() : 0;
     push.setZero(3, n);
+    fresh.assign(pairs.size(), 0);
     separate();
     for (Index i : moving) {  // each particle's pushes together at most `thickness`
-        const Scalar len = push.col(i).norm();
-        target.col(i) += len > thickness ? Vec3(push.col(i) * (thickness / len)) : Vec3(push.col(i));
+        const Scalar l = push.col(i).norm();
+        target.col(i) += l > thickness ? Vec3(push.col(i) * (thickness / l)) : Vec3(push.col(i));
     }
+    for (Index i = 0; i < n; ++i) len[i] = active[i] ? (target.col(i) - y.col(i)).norm() : 0;
     std::fill(bound.begin(), bound.end(), std::numeric_limits<Scalar>::infinity());
     selfBounds();
     solidBounds();
     for (Index i = 0; i < n; ++i) {
         if (pinned[i]) {
+            travel[i] += (target.col(i) - y.col(i)).norm();
             y.col(i) = target.col(i);  // prescribed
             continue;
         }
         if (!active[i]) continue;
         Vec3 move = target.col(i) - y.col(i);
-        const Scalar len = move.norm();
-        if (len > bound[i]) move *= bound[i] / len, ++report.limited;
+        if (len[i] > bound[i]) move *= bound[i] / len[i], ++report.limited;
+        travel[i] += move.norm();
         y.col(i) += move;
     }
 }
@@ -322,6 +373,8 @@ ContactReport ContactStage::apply(const Model& model, const std::vector<std::uin
     w.y = w.y0;
     w.target.resize(3, model.particleCount());
     w.bound.assign(model.particleCount(), std::numeric_limits<Scalar>::infinity());
+    w.travel.assign(model.particleCount(), 0);
+    w.need.resize(model.particleCount()), w.len.resize(model.particleCount());
     for (int k = 1; k <= report.subintervals; ++k) w.advance(Scalar(k) / report.subintervals, pinned, report);
     // Back in the world: each moved particle's correction becomes a change of its velocity.
     for (Index i : w.moving) {
