@@ -21,7 +21,8 @@ Vec3 normalOf(const Points& y, const Triangle& t) {
 }
 
 // The cone holding two cones (axis, cos of half-angle): its axis the normalized sum, its angle
-// the larger of each cone's angle plus its axis's angle to the new one.
+// the larger of each cone's angle plus its axis's angle to the new one. In cosines, with no inverse
+// cosine: cos(t + w) = cos t cos w - sin t sin w, and a sum that reaches pi holds every direction.
 void mergeCones(const Vec3& a, Scalar ca, const Vec3& b, Scalar cb, Vec3& axis, Scalar& cosHalf) {
     const Vec3 sum = a + b;
     if (sum.norm() < 1e-12 || ca <= -1 || cb <= -1) {
@@ -30,10 +31,11 @@ void mergeCones(const Vec3& a, Scalar ca, const Vec3& b, Scalar cb, Vec3& axis, 
     }
     axis = sum.normalized();
     auto widest = [&](const Vec3& c, Scalar cc) {
-        return std::acos(std::clamp(c.dot(axis), Scalar(-1), Scalar(1))) + std::acos(std::clamp(cc, Scalar(-1), Scalar(1)));
+        const Scalar ct = std::clamp(c.dot(axis), Scalar(-1), Scalar(1)), cw = std::clamp(cc, Scalar(-1), Scalar(1));
+        if (ct <= -cw) return Scalar(-1);
+        return ct * cw - std::sqrt((1 - ct * ct) * (1 - cw * cw));
     };
-    const Scalar angle = std::max(widest(a, ca), widest(b, cb));
-    cosHalf = angle >= M_PI ? -1 : std::cos(angle);
+    cosHalf = std::min(widest(a, ca), widest(b, cb));
 }
 
 }  // namespace
