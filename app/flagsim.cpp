@@ -44,6 +44,9 @@ int main(int argc, char** argv) {
     app.add_option("--export-mesh", o.exportMeshDir,
                    "write the flag's mesh after every frame as DIR/flag_NNNNNN.obj (Wavefront OBJ, world "
                    "coordinates, exact to the bit; scenes with a cloth only)");
+    app.add_flag("--crossings-every-tick", o.crossingsEveryTick,
+                 "count the flag's crossings (summary.json, the panel) after every tick, not only after each "
+                 "frame's last tick (the state the frame shows); scenes with collisions");
     app.add_flag("--overlay", o.overlay,
                  "draw the panel's graphs and stats (frame time per phase, stretch, iterations) into the "
                  "recorded frames; its cost is the profile's 'overlay' phase");

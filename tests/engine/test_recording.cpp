@@ -111,6 +111,29 @@ TEST(Recording, TheSummaryCountsTheSolversIterationsPerStep) {
     EXPECT_GE(newton["linear_iterations_mean"].get<double>(), newton["iterations_mean"].get<double>());
 }
 
+// The main demo's first 2.5 s, where the paper's step folds through itself: its crossings counted
+// after each frame's ticks (the default) and after every tick. The frames' states are some of the
+// ticks' states, so every tick finds at least what the frames do; each run counts as often as it says.
+TEST(Recording, TheSummaryCountsCrossingsAfterEachFrameOrAfterEveryTick) {
+    const auto crossings = [](bool everyTick) {
+        const fs::path out = freshDir(everyTick ? "flagsim_crossings_tick" : "flagsim_crossings_frame");
+        std::vector<std::string> args = {"--scene", "flag_vehicle", "--out", out.string(), "--frames", "150", "--force",
+                                         "--no-frames", "--width", "160", "--height", "120"};
+        if (everyTick) args.push_back("--crossings-every-tick");
+        EXPECT_EQ(waitExit(spawnDemo(args)), 0);
+        std::ifstream summaryFile(out / "summary.json");
+        return nlohmann::json::parse(summaryFile)["crossings"];
+    };
+    const auto frame = crossings(false), tick = crossings(true);
+    EXPECT_EQ(frame["counted_after"], "each frame's ticks");
+    EXPECT_EQ(tick["counted_after"], "every tick");
+    EXPECT_EQ(frame["counts"].get<int>(), 150);
+    EXPECT_EQ(tick["counts"].get<int>(), 150 * 4);  // 240 Hz ticks, 60 frames a second
+    EXPECT_GT(frame["max_in_one_count"].get<int>(), 0);
+    EXPECT_GE(tick["max_in_one_count"].get<int>(), frame["max_in_one_count"].get<int>());
+    EXPECT_GE(tick["counts_with_crossings"].get<int>(), frame["counts_with_crossings"].get<int>());
+}
+
 TEST(Recording, ExistingOutputFolderNeedsForce) {
     const fs::path out = freshDir("flagsim_existing");
     fs::create_directories(out);

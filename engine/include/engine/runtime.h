@@ -40,6 +40,7 @@ struct RunOptions {
     std::string tracePath;      // empty: no trace; else a Chrome Trace Event JSON of the run
     std::string exportMeshDir;  // empty: none; else the flag's mesh after every frame, DIR/flag_NNNNNN.obj
     bool overlay = false;       // the panel's graphs and stats drawn into the recorded frames
+    bool crossingsEveryTick = false;  // count the flag's crossings after every tick, not once per frame
     int width = 0, height = 0;  // 0: the scene's
     std::string aa;             // empty: the scene's render.aa; else auto, off, msaa or post
     int msaa = -1;              // -1: the scene's; else the samples, and (without aa) msaa or off

@@ -23,7 +23,8 @@ void CrossingWatch::count(const Flag& flag, const RigidFrame& carrier, const clo
         cloth::countCrossings(flag.model(), flag.state().x, scene, sleeve_.empty() ? nullptr : &sleeve_);
     tally_.last = c.total();
     if (tally_.last > tally_.max) tally_.max = tally_.last, tally_.worst = c;
-    tally_.ticks += tally_.last > 0;
+    ++tally_.checks;
+    tally_.withAny += tally_.last > 0;
 }
 
 }  // namespace engine

@@ -1,8 +1,8 @@
 #pragma once
-// The flag's crossings, counted after every tick by the cloth library's checker (cloth/crossings.h,
-// which shares no code with contact): edges through the pole's solid or the vehicle's body,
-// particles below the ground, and edge-triangle pairs of the flag at least three cells apart.
-// What summary.json and the panel report.
+// The flag's crossings, counted by the cloth library's checker (cloth/crossings.h, which shares no
+// code with contact) whenever the frame loop asks (after each frame's ticks, or after every tick):
+// edges through the pole's solid or the vehicle's body, particles below the ground, and
+// edge-triangle pairs of the flag at least three cells apart. What summary.json and the panel report.
 
 #include <vector>
 
@@ -12,10 +12,11 @@
 namespace engine {
 
 struct CrossingTally {
-    int last = 0;            // the last tick's
-    int max = 0;             // the most in one tick
-    long long ticks = 0;     // ticks with any
-    cloth::CrossingCounts worst;  // the tick with the most, by kind
+    int last = 0;              // the last count's
+    int max = 0;               // the most in one count
+    long long checks = 0;      // counts made
+    long long withAny = 0;     // counts that found any
+    cloth::CrossingCounts worst;  // the count with the most, by kind
 };
 
 class CrossingWatch {

@@ -42,11 +42,15 @@ void Runtime::Impl::tick() {
     if (flag) stepFlag(h);
     clock->countTick();
     if (flag) measurePinError();
-    if (crossings) {
-        Profiler::Scope scope(profiler, Phase::Crossings);
-        const cloth::Collider body = vehicle ? vehicle->bodyCollider() : cloth::Collider{};
-        crossings->count(*flag, carrier(), vehicle ? &body : nullptr);
-    }
+    if (opt.crossingsEveryTick) countCrossings();
+}
+
+// The flag's crossings now, with the carrier and the vehicle's body where they are.
+void Runtime::Impl::countCrossings() {
+    if (!crossings) return;
+    Profiler::Scope scope(profiler, Phase::Crossings);
+    const cloth::Collider body = vehicle ? vehicle->bodyCollider() : cloth::Collider{};
+    crossings->count(*flag, carrier(), vehicle ? &body : nullptr);
 }
 
 // Steps the flag by h with its pole where the carrier is now, against the ground and, on a
@@ -91,6 +95,7 @@ void Runtime::Impl::stepPhysics() {
     const long long ticksNow = ticksThisFrame();
     if (flag) flag->resetTimings();
     for (long long k = 0; k < ticksNow; ++k) tick();
+    if (ticksNow > 0 && !opt.crossingsEveryTick) countCrossings();  // the state the frame shows
     if (restartSchedule) clock->restartSchedule(simFrame);
     restartSchedule = false;
     if (!flag) return;

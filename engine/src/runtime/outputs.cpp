@@ -36,7 +36,7 @@ int Runtime::finish() {
         f.clothFailures = m.flag->failures();
         f.firstClothFailure = m.flag->firstFailure();
     }
-    if (m.crossings) f.crossingsCounted = true, f.crossings = m.crossings->tally();
+    if (m.crossings) f.crossingsCounted = true, f.crossings = m.crossings->tally(), f.crossingsEveryTick = m.opt.crossingsEveryTick;
     if (m.recording) {
         std::string error;
         if (!m.recording->finish(&f.framesWritten, &f.video, &error)) {

@@ -59,7 +59,7 @@ struct Runtime::Impl {
     std::optional<TickClock> clock;  // set by planFrames
     Clock::time_point nextFrame = Clock::now();
     double maxPinError = 0;
-    std::unique_ptr<CrossingWatch> crossings;  // kCollision: the flag's crossings after every tick
+    std::unique_ptr<CrossingWatch> crossings;  // kCollision: the flag's crossings after each frame's ticks (or every tick)
     std::string stopReason = "completed";
     int refusals = 0;           // commands refused so far (the panel's and the script's)
     std::string lastRefusal;    // the last one, and why (the panel shows it)
@@ -84,6 +84,7 @@ struct Runtime::Impl {
     long long ticksThisFrame();
     void stepFlag(double h);
     void measurePinError();
+    void countCrossings();
 
     // Construction, in this order (runtime_build.cpp).
     void applyOptions();

@@ -30,9 +30,11 @@ bool writeSummary(const std::string& path, const RunFacts& f, const Profiler& pr
                   {"linear_iterations_mean", f.linearIterationsMean}};
     j["recording"] = {{"frames_written", f.framesWritten}, {"video", f.video}, {"error", f.writerError}};
     if (f.crossingsCounted)
-        j["crossings"] = {{"ticks_with_crossings", f.crossings.ticks},
-                          {"max_in_a_tick", f.crossings.max},
-                          {"at_the_worst_tick", {{"pole_edges", f.crossings.worst.poleEdges},
+        j["crossings"] = {{"counted_after", f.crossingsEveryTick ? "every tick" : "each frame's ticks"},
+                          {"counts", f.crossings.checks},
+                          {"counts_with_crossings", f.crossings.withAny},
+                          {"max_in_one_count", f.crossings.max},
+                          {"at_the_worst_count", {{"pole_edges", f.crossings.worst.poleEdges},
                                                  {"self_edges", f.crossings.worst.selfEdges},
                                                  {"body_edges", f.crossings.worst.bodyEdges},
                                                  {"ground_particles", f.crossings.worst.groundParticles}}}};

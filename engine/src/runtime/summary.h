@@ -24,7 +24,8 @@ struct RunFacts {
     std::string meshDir;  // --export-mesh, or empty (then the summary has no "export_mesh")
     int meshesWritten = 0;
     std::string meshError;
-    bool crossingsCounted = false;  // the flag's crossings (kCollision), counted after every tick
+    bool crossingsCounted = false;  // the flag's crossings (kCollision)
+    bool crossingsEveryTick = false;  // counted after every tick, else after each frame's ticks
     CrossingTally crossings;
 };
 

@@ -32,7 +32,7 @@ struct PanelState {
     std::vector<std::string> phases;
     std::vector<double> phaseMs;
     double p99Stretch = 0, maxStretch = 0, iterationsPerStep = 0;
-    int crossings = -1, crossingsMax = 0;  // the last tick's and the most in one (-1: not counted)
+    int crossings = -1, crossingsMax = 0;  // the last count's and the most in one (-1: not counted)
     std::string refusal;  // the last command refused, and why (empty: none)
 };
 
