@@ -85,6 +85,13 @@ const Configuration kSmallSteps[] = {
     {.name = "explicit_128", .solver = "explicit", .substeps = 128},
 };
 
+// Vertex Block Descent (vbd, Chen et al. 2024): per-vertex Newton steps on backward Euler's
+// potential, color by color, with 10 passes at 240 Hz and with 5 at 960 Hz (the tick's substeps).
+const Configuration kBlockDescent[] = {
+    {.name = "vbd_10", .solver = "vbd"},
+    {.name = "vbd_960_5", .solver = "vbd:iterations=5", .substeps = 4},
+};
+
 // Peers: Bullet's btSoftBody (bullet_kind.cpp) at 1 and 10 iterations of its position solver.
 const Configuration kPeers[] = {
     {.name = "bullet_softbody_1", .solver = "bullet_softbody:iterations=1"},
@@ -139,6 +146,7 @@ std::vector<Configuration> configurations(const StudyOptions& o, std::string* er
     all.insert(all.end(), std::begin(kConverged), std::end(kConverged));
     all.insert(all.end(), std::begin(kSmallSteps), std::end(kSmallSteps));
     all.insert(all.end(), std::begin(kTrueMotion), std::end(kTrueMotion));
+    all.insert(all.end(), std::begin(kBlockDescent), std::end(kBlockDescent));
     all.insert(all.end(), std::begin(kPeers), std::end(kPeers));
     if (o.quick)
         std::erase_if(all, [](const Configuration& c) {
