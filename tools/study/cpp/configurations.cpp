@@ -10,7 +10,7 @@ namespace study {
 
 namespace {
 
-constexpr FlagKind kDemo = FlagKind::Demo, kStiff = FlagKind::Stiff;
+constexpr FlagKind kDemo = FlagKind::Demo;
 
 // The references and the shipped scenes.
 const Configuration kReferences[] = {
