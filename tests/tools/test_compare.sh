@@ -1,0 +1,24 @@
+#!/bin/sh
+# tools/compare.py end to end: two solvers for six frames in 160x90 tiles give one labelled video
+# of 320x90 and six frames (ffprobe reads it back); one solver, or a mistyped one, is refused with
+# exit code 2 and a message naming it, and leaves no video.
+# Usage: test_compare.sh PYTHON COMPARE_PY FLAGSIM OUT_DIR
+set -u
+py=$1 compare=$2 flagsim=$3 out=$4
+rm -rf "$out" && mkdir -p "$out"
+fail() { echo "FAIL: $*"; exit 1; }
+
+"$py" "$compare" --flagsim "$flagsim" --solvers "kangcho;vbd:iterations=2" --frames 6 --width 160 --height 90 \
+    --out "$out/two" > "$out/two.log" 2>&1 || { cat "$out/two.log"; fail "two solvers: exit $?"; }
+probe=$(ffprobe -v error -count_frames -show_entries stream=width,height,nb_read_frames -of csv=p=0 "$out/two/compare.mp4")
+[ "$probe" = "320,90,6" ] || fail "compare.mp4 is '$probe', not 320,90,6"
+
+"$py" "$compare" --flagsim "$flagsim" --solvers "kangcho" --out "$out/one" > "$out/one.log" 2>&1
+code=$?
+[ $code -eq 2 ] && grep -q "names 1 solvers; give two to four" "$out/one.log" || { cat "$out/one.log"; fail "one solver: exit $code"; }
+
+"$py" "$compare" --flagsim "$flagsim" --solvers "kangcho;vbd:iteratons=2" --frames 2 --out "$out/bad" > "$out/bad.log" 2>&1
+code=$?
+[ $code -eq 2 ] && grep -q "'vbd:iteratons=2'.*no parameter 'iteratons'" "$out/bad.log" || { cat "$out/bad.log"; fail "bad spec: exit $code"; }
+[ ! -e "$out/bad/compare.mp4" ] && [ ! -e "$out/bad/1" ] || fail "a refused comparison left output behind"
+echo "compare: ok"
