@@ -32,4 +32,17 @@ bool ImplicitSolver::computeDv(const StepProblem& problem, StepResult& result) {
 
 bool ImplicitSolver::solve(const Model&, StepResult&) { return false; }
 
+Vec3 predictVelocity(const Model& model, const Environment& env, const StepInput& input, Index i, const Vec3& v, Scalar h) {
+    const Scalar m = model.masses()[i];
+    Vec3 b = m * v + h * m * env.gravity;
+    Mat3 A = Mat3::Identity() * (m * (1 + h * env.drag));
+    if (input.externalForce) b += h * input.externalForce->col(i);
+    if (input.damping) {
+        const Mat3& C = (*input.damping)[std::size_t(i)];
+        A += h * C;
+        b += h * (C * v);
+    }
+    return A.ldlt().solve(b);
+}
+
 }  // namespace cloth

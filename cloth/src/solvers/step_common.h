@@ -14,6 +14,12 @@ inline double msSince(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+// Particle i's velocity after a step of h in gravity, the environment's drag c and the external
+// force f_i (the air), the last two implicit in velocity through its damping block C_i
+// (StepInput::damping): v* from (m (1 + h c) I + h C_i) v* = m v + h (m g + f_i + C_i v). The
+// prediction of the position-based steps (xpbd, vbd): x_n + h v*.
+Vec3 predictVelocity(const Model& model, const Environment& env, const StepInput& input, Index i, const Vec3& v, Scalar h);
+
 // Backward Euler step shape shared by every implicit solver: the system, dv, then v += dv,
 // x += h v. Subclasses supply dv.
 class ImplicitSolver : public Solver {

@@ -111,23 +111,10 @@ private:
         profile_.solveMs += msSince(t0);
     }
 
-    // y: x_n + h v*, v* from (m (1 + h c) I + h C_i) v* = m v + h (m g + f_i + C_i v).
+    // y: x_n + h v* (step_common.h's predictVelocity).
     void predict(const Model& model, const Environment& env, const StepInput& sub) {
-        const Scalar h = sub.h;
-        for (Index i = 0; i < model.particleCount(); ++i) {
-            if (pinned_[i]) continue;
-            const Scalar m = model.masses()[i];
-            const Vec3 v = scratch_.v.col(i);
-            Vec3 b = m * v + h * m * env.gravity;
-            Mat3 A = Mat3::Identity() * (m * (1 + h * env.drag));
-            if (sub.externalForce) b += h * sub.externalForce->col(i);
-            if (sub.damping) {
-                const Mat3& C = (*sub.damping)[std::size_t(i)];
-                A += h * C;
-                b += h * (C * v);
-            }
-            scratch_.x.col(i) += h * A.ldlt().solve(b);
-        }
+        for (Index i = 0; i < model.particleCount(); ++i)
+            if (!pinned_[i]) scratch_.x.col(i) += sub.h * predictVelocity(model, env, sub, i, scratch_.v.col(i), sub.h);
     }
 
     // One Newton step on G for vertex i with the others held.

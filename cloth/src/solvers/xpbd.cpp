@@ -71,17 +71,7 @@ private:
         scratch_.v = state.v;
         for (Index i = 0; i < model.particleCount(); ++i) {
             if (weight_[i] == 0) continue;
-            const Scalar m = model.masses()[i];
-            const Vec3 v = state.v.col(i);
-            Vec3 b = m * v + h * m * env.gravity;
-            Mat3 A = Mat3::Identity() * (m * (1 + h * env.drag));
-            if (input.externalForce) b += h * input.externalForce->col(i);
-            if (input.damping) {
-                const Mat3& C = (*input.damping)[std::size_t(i)];
-                A += h * C;
-                b += h * (C * v);
-            }
-            scratch_.v.col(i) = A.ldlt().solve(b);
+            scratch_.v.col(i) = predictVelocity(model, env, input, i, state.v.col(i), h);
             scratch_.x.col(i) = state.x.col(i) + h * scratch_.v.col(i);
         }
         for (const Pin& p : input.pins)
