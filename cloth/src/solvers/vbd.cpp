@@ -71,7 +71,7 @@ public:
         scratch_.x = state.x, scratch_.v = state.v, x0_ = state.x;
         StepInput sub = input;
         sub.h = input.h / s.substeps;
-        for (int k = 0; k < s.substeps; ++k) substep(model, env, sub, Scalar(k + 1) / s.substeps, input);
+        for (int k = 0; k < s.substeps; ++k) substep(model, env, sub, Scalar(k + 1) / s.substeps);
         const auto t0 = Clock::now();
         dv_ = scratch_.v - state.v;
         StepResult result;
@@ -82,21 +82,22 @@ public:
     }
 
 private:
+    // The step's pins on particles of the model (pins_), and each particle's flag (pinned_).
     void setPinned(const Model& model, const StepInput& input) {
         pinned_.assign(std::size_t(model.particleCount()), 0);
+        pins_.clear();
         for (const Pin& p : input.pins)
-            if (p.particle >= 0 && p.particle < model.particleCount()) pinned_[p.particle] = 1;
+            if (p.particle >= 0 && p.particle < model.particleCount()) pinned_[p.particle] = 1, pins_.push_back(p);
     }
 
     // One substep from scratch_ (x_n, v_n) of length sub.h; the pins at the fraction `f` of the way
     // from where they were at the step's start to its targets.
-    void substep(const Model& model, const Environment& env, const StepInput& sub, Scalar f, const StepInput& input) {
+    void substep(const Model& model, const Environment& env, const StepInput& sub, Scalar f) {
         auto t0 = Clock::now();
         xStart_ = scratch_.x;
         predict(model, env, sub);
-        for (const Pin& p : input.pins)
-            if (p.particle >= 0 && p.particle < model.particleCount())
-                scratch_.x.col(p.particle) = f == 1 ? p.x : Vec3(x0_.col(p.particle) + f * (p.x - x0_.col(p.particle)));
+        for (const Pin& p : pins_)
+            scratch_.x.col(p.particle) = f == 1 ? p.x : Vec3(x0_.col(p.particle) + f * (p.x - x0_.col(p.particle)));
         y_ = scratch_.x;
         profile_.forcesMs += msSince(t0);
         t0 = Clock::now();
@@ -106,8 +107,8 @@ private:
                     for (int k = b; k < e; ++k) descend(model, color[k], sub.h);
                 });
         for (Index i = 0; i < model.particleCount(); ++i) scratch_.v.col(i) = (scratch_.x.col(i) - xStart_.col(i)) / sub.h;
-        for (const Pin& p : input.pins)
-            if (f == 1 && p.particle >= 0 && p.particle < model.particleCount()) scratch_.v.col(p.particle) = p.v;
+        if (f == 1)
+            for (const Pin& p : pins_) scratch_.v.col(p.particle) = p.v;
         profile_.solveMs += msSince(t0);
     }
 
@@ -142,6 +143,7 @@ private:
 
     VertexGraph graph_;
     std::vector<std::uint8_t> pinned_;
+    std::vector<Pin> pins_;
     State scratch_;
     Points x0_, xStart_, y_;  // the step's start, the substep's, the substep's inertial target
 };
