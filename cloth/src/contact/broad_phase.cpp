@@ -38,6 +38,13 @@ void mergeCones(const Vec3& a, Scalar ca, const Vec3& b, Scalar cb, Vec3& axis, 
     cosHalf = std::min(widest(a, ca), widest(b, cb));
 }
 
+// The box holding two boxes: the same bits as adding both to an empty box.
+Box joined(const Box& a, const Box& b) {
+    Box j;
+    j.lo = a.lo.cwiseMin(b.lo), j.hi = a.hi.cwiseMax(b.hi);
+    return j;
+}
+
 }  // namespace
 
 void BroadPhase::prepare(const Model& model) {
@@ -94,18 +101,20 @@ int BroadPhase::build(int c0, int c1, int r0, int r1) {
 void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, Scalar margin) {
     if (model.id() != model_) prepare(model);
     const Index n = model.particleCount();
-    vertexBox_.assign(n, Box{});
+    vertexBox_.resize(n);
     for (Index i = 0; i < n; ++i) {
-        vertexBox_[i].add(y0.col(i)), vertexBox_[i].add(y1.col(i));
-        vertexBox_[i].lo.array() -= margin / 2, vertexBox_[i].hi.array() += margin / 2;
+        Box& b = vertexBox_[i];
+        b.lo = y0.col(i).cwiseMin(y1.col(i)), b.hi = y0.col(i).cwiseMax(y1.col(i));
+        b.lo.array() -= margin / 2, b.hi.array() += margin / 2;
     }
-    edgeBox_.assign(edges_.size(), Box{});
-    for (std::size_t e = 0; e < edges_.size(); ++e) edgeBox_[e].add(vertexBox_[edges_[e][0]]), edgeBox_[e].add(vertexBox_[edges_[e][1]]);
-    triangleBox_.assign(triangles_.size(), Box{});
+    edgeBox_.resize(edges_.size());
+    for (std::size_t e = 0; e < edges_.size(); ++e) edgeBox_[e] = joined(vertexBox_[edges_[e][0]], vertexBox_[edges_[e][1]]);
+    triangleBox_.resize(triangles_.size());
     normal0_.resize(triangles_.size()), normal1_.resize(triangles_.size());
     for (std::size_t t = 0; t < triangles_.size(); ++t) {
-        for (Index v : triangles_[t]) triangleBox_[t].add(vertexBox_[v]);
-        normal0_[t] = normalOf(y0, triangles_[t]), normal1_[t] = normalOf(y1, triangles_[t]);
+        const Triangle& tri = triangles_[t];
+        triangleBox_[t] = joined(joined(vertexBox_[tri[0]], vertexBox_[tri[1]]), vertexBox_[tri[2]]);
+        normal0_[t] = normalOf(y0, tri), normal1_[t] = normalOf(y1, tri);
     }
     refitNode(0);
 }

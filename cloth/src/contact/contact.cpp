@@ -67,6 +67,7 @@ struct ContactStage::Work {
     std::vector<Scalar> bound, invMass;
     std::vector<std::uint8_t> active;
     std::vector<Index> moving;  // the active free particles, in increasing order
+    std::vector<Index> touched;  // the active and the pinned particles, in increasing order: all a sub-interval moves
     std::vector<Pair> pairs;
     std::vector<std::array<Index, 4>> ids;  // each pair's particles: the vertex and the triangle's, or both edges'
     std::vector<Scalar> gap;                // each self pair's distance when last measured
@@ -317,11 +318,12 @@ Scalar ContactStage::Work::markActive(const std::vector<std::uint8_t>& pinned) {
         for (Index i : nr.vertices) mark(i);
         for (Index e : nr.edges) markEdge(e);
     }
-    moving.clear();
+    moving.clear(), touched.clear();
     Scalar reach = 0;
     invMass.assign(n, 1);
     for (Index i = 0; i < n; ++i) {
         if (pinned[i]) invMass[i] = 0;
+        if (active[i] || pinned[i]) touched.push_back(i);
         if (!active[i] || pinned[i]) continue;
         moving.push_back(i);
         reach = std::max(reach, reachOf[i]);
@@ -330,29 +332,33 @@ Scalar ContactStage::Work::markActive(const std::vector<std::uint8_t>& pinned) {
 }
 
 // One sub-interval, to the fraction f of the step: targets on the straight path plus the
-// proximity pushes, then every active particle moved toward its target within its bound.
+// proximity pushes, then every active particle moved toward its target within its bound (the
+// pinned ones onto theirs). Only the active and the pinned particles are touched: no pair and no
+// solid reads another.
 void ContactStage::Work::advance(Scalar f, const std::vector<std::uint8_t>& pinned, ContactReport& report) {
-    const Index n = model->particleCount();
-    target = y0 + f * (y1 - y0);
-    for (Index i = 0; i < n; ++i) need[i] = active[i] ? (target.col(i) - y.col(i)).norm() : 0;
-    push.setZero(3, n);
+    for (Index i : touched) {
+        target.col(i) = y0.col(i) + f * (y1.col(i) - y0.col(i));
+        need[i] = active[i] ? (target.col(i) - y.col(i)).norm() : 0;
+        push.col(i).setZero();
+    }
     fresh.assign(pairs.size(), 0);
     separate();
     for (Index i : moving) {  // each particle's pushes together at most `thickness`
         const Scalar l = push.col(i).norm();
         target.col(i) += l > thickness ? Vec3(push.col(i) * (thickness / l)) : Vec3(push.col(i));
     }
-    for (Index i = 0; i < n; ++i) len[i] = active[i] ? (target.col(i) - y.col(i)).norm() : 0;
-    std::fill(bound.begin(), bound.end(), std::numeric_limits<Scalar>::infinity());
+    for (Index i : touched) {
+        len[i] = active[i] ? (target.col(i) - y.col(i)).norm() : 0;
+        bound[i] = std::numeric_limits<Scalar>::infinity();
+    }
     selfBounds();
     solidBounds();
-    for (Index i = 0; i < n; ++i) {
+    for (Index i : touched) {
         if (pinned[i]) {
             travel[i] += (target.col(i) - y.col(i)).norm();
             y.col(i) = target.col(i);  // prescribed
             continue;
         }
-        if (!active[i]) continue;
         Vec3 move = target.col(i) - y.col(i);
         if (len[i] > bound[i]) move *= bound[i] / len[i], ++report.limited;
         travel[i] += move.norm();
@@ -372,6 +378,7 @@ ContactReport ContactStage::apply(const Model& model, const std::vector<std::uin
     report.subintervals = std::clamp(int(std::ceil(reach / settings.maxMove)), 1, kMaxSubintervals);
     w.y = w.y0;
     w.target.resize(3, model.particleCount());
+    w.push.resize(3, model.particleCount());
     w.bound.assign(model.particleCount(), std::numeric_limits<Scalar>::infinity());
     w.travel.assign(model.particleCount(), 0);
     w.need.resize(model.particleCount()), w.len.resize(model.particleCount());
