@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""The cloth's share of a demo frame: per frame, air + cloth_forces + cloth_solve + collision
-(profile.csv of a flagsim run), mean and 99th percentile, against a real-time budget, and the
-mean's ratio to the demo's run at the same size in the same call (LABEL up to "_stiff" or "_true").
+"""The cloth's share of a demo frame: per frame, air + cloth_forces + cloth_solve + collision +
+contact (profile.csv of a flagsim run), mean, median and 99th percentile, against a real-time
+budget, and the mean's and the median's ratios to the demo's run at the same size in the same call
+(LABEL up to "_stiff", "_true" or "_contact").
 
     tools/bench_cloth_budget.py LABEL:BUDGET_MS:PROFILE_CSV ...
 """
@@ -9,13 +10,13 @@ import csv
 import re
 import sys
 
-PHASES = ["air", "cloth_forces", "cloth_solve", "collision"]
+PHASES = ["air", "cloth_forces", "cloth_solve", "collision", "contact"]
 
 
 def main():
-    print("| run | frames | cloth mean (ms/frame) | cloth p99 | budget | within | x demo |")
-    print("|---|---|---|---|---|---|---|")
-    means = {}
+    print("| run | frames | cloth mean (ms/frame) | cloth median | cloth p99 | budget | within | x demo (mean) | x demo (median) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    means, medians = {}, {}
     for arg in sys.argv[1:]:
         label, budget, path = arg.split(":", 2)
         with open(path, newline="") as f:
@@ -25,11 +26,13 @@ def main():
             sys.exit(f"{path}: no frames")
         mean = sum(sums) / len(sums)
         p99 = sums[min(len(sums) - 1, int(0.99 * len(sums)))]
-        means[label] = mean
-        demo = means.get(re.sub(r"_(stiff|true).*", "", label))
-        ratio = f"{mean / demo:.1f}" if demo else ""
-        print(f"| {label} | {len(sums)} | {mean:.2f} | {p99:.2f} | {float(budget):g} | "
-              f"{'yes' if mean <= float(budget) else 'no'} | {ratio} |")
+        median = sums[len(sums) // 2] if len(sums) % 2 else (sums[len(sums) // 2 - 1] + sums[len(sums) // 2]) / 2
+        means[label], medians[label] = mean, median
+        base = re.sub(r"_(stiff|true|contact).*", "", label)
+        ratio = f"{mean / means[base]:.1f}" if base in means else ""
+        ratio_median = f"{median / medians[base]:.1f}" if base in medians else ""
+        print(f"| {label} | {len(sums)} | {mean:.2f} | {median:.2f} | {p99:.2f} | {float(budget):g} | "
+              f"{'yes' if mean <= float(budget) else 'no'} | {ratio} | {ratio_median} |")
 
 
 if __name__ == "__main__":
