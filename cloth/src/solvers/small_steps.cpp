@@ -21,6 +21,7 @@
 #include "cloth/solver_kind.h"
 #include "small_steps/collisions.h"
 #include "small_steps/kernels.h"
+#include "small_steps/lag_guard.h"
 #include "small_steps/spin_barrier.h"
 #include "small_steps/stable_step.h"
 #include "solvers/step_common.h"
@@ -91,7 +92,8 @@ private:
     void loadPins(const StepInput& input);
     int substepsOf(const Model& model, const State& state, const StepInput& input) const;
     void runSubsteps();
-    void worker(int index);
+    void worker(int index, int begin, int end, bool together);
+    void meet(int index);
     void constrain();
     void store();
 
@@ -107,6 +109,7 @@ private:
     Scalar springFrequency_ = 0;
     std::vector<int> ranges_;  // thread t takes particles [ranges_[t], ranges_[t + 1])
     std::unique_ptr<SpinBarrier> barrier_;
+    LagGuard lag_;  // one thread for a while when a busy core keeps the other waiting
     std::string layoutError_;
     int lastSubsteps_ = 0;
     const Model* model_ = nullptr;         // the model and the pins of the step under way
@@ -186,16 +189,27 @@ void SmallStepsSolver::loadPins(const StepInput& input) {
 
 void SmallStepsSolver::runSubsteps() {
     const int threads = pool_->threads();
-    if (threads == 1) return worker(0);
-    pool_->run(2 * threads, [this](int begin, int) { worker(begin / 2); });
+    if (threads == 1 || lag_.solo()) return worker(0, 0, cloth_.n, false);
+    const auto t0 = Clock::now();
+    pool_->run(2 * threads, [this](int begin, int) {
+        const int t = begin / 2;
+        worker(t, ranges_[std::size_t(t)], ranges_[std::size_t(t) + 1], true);
+    });
+    lag_.stepEnded(Clock::now() - t0);
 }
 
-// Thread `index`'s share of every substep: the springs and the air at its slots, then, once every
-// thread's are done, its particles' integration, the constraints (on one thread) and its
-// particles' collisions.
-void SmallStepsSolver::worker(int index) {
-    const int begin = ranges_[std::size_t(index)], end = ranges_[std::size_t(index) + 1];
-    const bool together = pool_->threads() > 1;
+// The threads meet; the caller's wait is judged (LagGuard).
+void SmallStepsSolver::meet(int index) {
+    if (index != 0) return barrier_->wait();
+    const auto t0 = Clock::now();
+    barrier_->wait();
+    lag_.waited(Clock::now() - t0);
+}
+
+// Thread `index`'s share of every substep (particles [begin, end)): the springs and the air at its
+// slots, then, once every thread's are done, its particles' integration, the constraints (on
+// thread 0) and its particles' collisions. Alone (together false) it takes every particle.
+void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
     for (int sub = 1; sub <= plan_.substeps; ++sub) {
         if (index == 0) {
             const Scalar along = Scalar(sub) / plan_.substeps;
@@ -207,15 +221,15 @@ void SmallStepsSolver::worker(int index) {
         }
         for (int f = 0; f < int(cloth_.offsets.size()); ++f) springKernel(cloth_, f, s_, begin, end);
         if (plan_.integrate.air) airKernel(cloth_, plan_.air, s_, begin, end);
-        if (together) barrier_->wait();
+        if (together) meet(index);
         integrateKernel(cloth_, plan_.integrate, s_, begin, end);
         if (constraints_.any()) {  // between the integration and the collisions, as after a solver's step
-            if (together) barrier_->wait();
+            if (together) meet(index);
             if (index == 0) constrain();
-            if (together) barrier_->wait();
+            if (together) meet(index);
         }
         if (colliders_.any()) colliders_.resolve(s_, begin, end);
-        if (together) barrier_->wait();
+        if (together) meet(index);
     }
 }
 
