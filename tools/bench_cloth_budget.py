@@ -8,6 +8,7 @@ budget, and the mean's and the median's ratios to the demo's run at the same siz
 """
 import csv
 import re
+import statistics
 import sys
 
 PHASES = ["air", "cloth_forces", "cloth_solve", "collision", "contact"]
@@ -26,7 +27,7 @@ def main():
             sys.exit(f"{path}: no frames")
         mean = sum(sums) / len(sums)
         p99 = sums[min(len(sums) - 1, int(0.99 * len(sums)))]
-        median = sums[len(sums) // 2] if len(sums) % 2 else (sums[len(sums) // 2 - 1] + sums[len(sums) // 2]) / 2
+        median = statistics.median(sums)
         means[label], medians[label] = mean, median
         base = re.sub(r"_(stiff|true|contact).*", "", label)
         ratio = f"{mean / means[base]:.1f}" if base in means else ""

@@ -198,7 +198,8 @@ void SmallStepsSolver::runSubsteps() {
     lag_.stepEnded(Clock::now() - t0);
 }
 
-// The threads meet; the caller's wait is judged (LagGuard).
+// The threads meet; thread 0's wait is judged (LagGuard; whichever thread runs it, only it writes
+// the guard, and the caller reads it after the pool's region has ended).
 void SmallStepsSolver::meet(int index) {
     if (index != 0) return barrier_->wait();
     const auto t0 = Clock::now();
