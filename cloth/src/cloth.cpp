@@ -193,14 +193,29 @@ void Cloth::collide(const std::vector<Collider>& colliders) {
 void Cloth::makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h) {
     if (observer_) observer_->stageBegins(ClothStage::Contact);
     const auto t0 = Clock::now();
-    contactReport_ = contactStage_.apply(model_, pinned_, xStart_, state_, from, to, solids_, settings_.contact, h);
-    const auto t1 = Clock::now();
-    profile_.contact += msBetween(t0, t1);
-    if (observer_) observer_->stageEnded(ClothStage::Contact, t0, t1);
+    contactReport_ = {};
+    contactOver(from, to, xStart_, state_, h);
+    if (observer_) observer_->stageEnded(ClothStage::Contact, t0, Clock::now());
+}
+
+// The contact stage over one motion, its report added to the step's and its time to the profile's.
+void Cloth::contactOver(const RigidFrame& from, const RigidFrame& to, const Points& xStart, State& state, Scalar h) {
+    const auto t0 = Clock::now();
+    const ContactReport r = contactStage_.apply(model_, pinned_, xStart, state, from, to, solids_, settings_.contact, h);
+    profile_.contact += msBetween(t0, Clock::now());
+    contactReport_.subintervals += r.subintervals, contactReport_.selfPairs += r.selfPairs;
+    contactReport_.near += r.near, contactReport_.limited += r.limited;
+}
+
+// Inside the solver's step, on its thread: no stage is told to the observer (it is inside the
+// solve's), its time is the profile's contact, taken out of the solve's.
+void Cloth::SubstepHook::apply(Scalar f0, Scalar f1, const Points& xStart, State& state, Scalar h) {
+    cloth->contactOver(between(from, to, f0), between(from, to, f1), xStart, state, h);
 }
 
 bool Cloth::stepOnce(Scalar h, const std::vector<Collider>& colliders, const RigidFrame& from, const RigidFrame& to) {
-    if (settings_.contact.enabled) xStart_ = state_.x;
+    const bool contactInside = settings_.contact.enabled && solver_->resolvesCollisions();
+    if (settings_.contact.enabled && !contactInside) xStart_ = state_.x;
     StepInput input;
     input.h = h;
     input.pins = pins_;
@@ -211,19 +226,26 @@ bool Cloth::stepOnce(Scalar h, const std::vector<Collider>& colliders, const Rig
         input.thickness = settings_.thickness;
         input.collisionSkip = &collisionSkip_;
     }
+    if (contactInside) {
+        substepHook_ = {};
+        substepHook_.cloth = this, substepHook_.from = from, substepHook_.to = to;
+        input.contact = &substepHook_;
+        contactReport_ = {};
+    }
+    const double contactBefore = profile_.contact;
     if (observer_) observer_->stageBegins(ClothStage::Solve);
     const auto t0 = observer_ ? Clock::now() : Clock::time_point{};
     const StepResult r = solver_->step(model_, settings_.environment, state_, input);
     if (observer_) observer_->stageEnded(ClothStage::Solve, t0, Clock::now());
     profile_.forces += solver_->profile().forcesMs;
-    profile_.solve += solver_->profile().solveMs + solver_->profile().integrateMs;
+    profile_.solve += solver_->profile().solveMs + solver_->profile().integrateMs - (profile_.contact - contactBefore);
     ++steps_;
     counts_.iterations += r.iterations;
     counts_.maxIterations = std::max(counts_.maxIterations, r.iterations);
     counts_.linearIterations += r.linearIterations;
     if (r.status != StepStatus::Ok) return fail(toString(r.status), r.badParticle);
     if (collideHere && !solver_->resolvesCollisions()) collide(colliders);
-    if (settings_.contact.enabled) makeContact(from, to, h);
+    if (settings_.contact.enabled && !contactInside) makeContact(from, to, h);
     if (const Index i = firstRunaway(state_, pins_.front().x, reach_); i >= 0) return fail("diverged", i);
     return true;
 }

@@ -11,7 +11,11 @@
 //                          (Solver::resolvesCollisions)
 //                 collide  the colliders, after the solve (the other solvers)
 //                 contact  no edge through the carrier's solids or through the cloth, over the
-//                          step's whole motion (contact.h; with settings.contact.enabled)
+//                          step's whole motion (contact.h; with settings.contact.enabled); a
+//                          solver that takes its own substeps and meets the colliders at each
+//                          (small_steps) runs it after each of them instead (StepInput::contact),
+//                          as contact after a whole step of many substeps would hold back
+//                          particles the springs then pull through
 //                 check    finite, and no particle beyond the runaway reach
 //   on failure:   the tick again in 8x the substeps from its start; failing that, back to the
 //                 start shape on the carrier. Every failure is counted, the first one described.
@@ -139,6 +143,13 @@ private:
                      const std::vector<Collider>& colliders);
     bool stepOnce(Scalar h, const std::vector<Collider>& colliders, const RigidFrame& from, const RigidFrame& to);
     void makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h);
+    void contactOver(const RigidFrame& from, const RigidFrame& to, const Points& xStart, State& state, Scalar h);
+    // The contact stage at the solver's own substeps, the carrier between the step's two poses.
+    struct SubstepHook final : SubstepContact {
+        Cloth* cloth = nullptr;
+        RigidFrame from, to;
+        void apply(Scalar f0, Scalar f1, const Points& xStart, State& state, Scalar h) override;
+    };
     void addAir(StepInput& input);
     void collide(const std::vector<Collider>& colliders);
     bool fail(const std::string& what, Index particle);
@@ -156,7 +167,8 @@ private:
     std::vector<Collider> solids_;
     RigidFrame carrier_;  // where the last tick left the carrier
     ContactStage contactStage_;
-    ContactReport contactReport_;
+    ContactReport contactReport_;  // summed over the solver's substeps when it runs them
+    SubstepHook substepHook_;
     Points xStart_;  // the step's start, for contact
     Scalar reach_ = 0;
     Points airForce_;

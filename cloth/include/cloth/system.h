@@ -26,6 +26,17 @@ struct Pin {
     Vec3 v = Vec3::Zero();
 };
 
+// Contact at a solver's own substeps (Solver::resolvesCollisions: small_steps): the solver calls
+// apply after each substep's collisions, over that substep, from fraction `from` to `to` of the
+// step: `xStart` the positions where the substep began, `state` where it ended (world, changed in
+// place), h the substep's length. cloth::Cloth hands in its contact stage (contact.h) this way, so
+// that a solver taking many substeps per step meets contact at every one, as the reference does.
+class SubstepContact {
+public:
+    virtual ~SubstepContact() = default;
+    virtual void apply(Scalar from, Scalar to, const Points& xStart, State& state, Scalar h) = 0;
+};
+
 struct StepInput {
     Scalar h = Scalar(1) / 60;
     // Owned, not a view: `input.pins = pinColumn(model)` must not leave a dangling reference.
@@ -46,6 +57,9 @@ struct StepInput {
     const std::vector<Collider>* colliders = nullptr;
     Scalar thickness = 0;
     const std::vector<std::uint8_t>* collisionSkip = nullptr;
+    // Contact after every substep, for a solver that meets the colliders itself; null: none, or
+    // the caller runs it after the step.
+    SubstepContact* contact = nullptr;
 };
 
 // One implicit step's problem: the cloth, its environment, the state the step starts from, the

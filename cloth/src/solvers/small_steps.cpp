@@ -8,7 +8,8 @@
 // with max_move > 0 enough that no pin, and no particle at its speed relative to the pole's, moves
 // more than max_move metres in a substep: as the reference paces its substeps through a teleport,
 // and after it while the flag still flies. The flag's constraints (tethers, the stretch limit) run
-// after every substep, as they do after each of the reference's.
+// after every substep, as they do after each of the reference's, and so does the caller's contact
+// (StepInput::contact) when it hands one in.
 // Grids only (Model::fromGrid's layout); on another mesh every step fails and details() says why.
 
 #include <algorithm>
@@ -95,6 +96,8 @@ private:
     void worker(int index, int begin, int end, bool together);
     void meet(int index);
     void constrain();
+    void contactAfter(int sub);
+    void worldPositions(Points& out) const;
     void store();
 
     StencilCloth cloth_;
@@ -115,6 +118,9 @@ private:
     const Model* model_ = nullptr;         // the model and the pins of the step under way
     const std::vector<Pin>* pins_ = nullptr;
     State constrained_;                    // the substep's state in double for the constraints
+    SubstepContact* contact_ = nullptr;    // the step's contact, after every substep (or null)
+    State contactEnd_;                     // the substep's end in the world, in double, for contact
+    Points contactStart_;                  // and its start
     ConstraintSet noConstraints_;
 };
 
@@ -151,6 +157,8 @@ void SmallStepsSolver::load(const Model& model, const Environment& env, const St
         c.extX = external_.x.at(), c.extY = external_.y.at(), c.extZ = external_.z.at();
     }
     colliders_.prepare(input.colliders, input.thickness, input.collisionSkip, origin_);
+    contact_ = input.contact;
+    if (contact_) worldPositions(contactStart_);
     plan_.substeps = substepsOf(model, state, input);
     lastSubsteps_ = plan_.substeps;
     plan_.h = input.h / plan_.substeps;
@@ -231,7 +239,35 @@ void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
         }
         if (colliders_.any()) colliders_.resolve(s_, begin, end);
         if (together) meet(index);
+        if (contact_) {  // after every thread's collisions, on thread 0
+            if (index == 0) contactAfter(sub);
+            if (together) meet(index);
+        }
     }
+}
+
+// The positions in the world, in double, as store() gives them.
+void SmallStepsSolver::worldPositions(Points& out) const {
+    out.resize(3, cloth_.n);
+    const float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at();
+    for (Index i = 0; i < cloth_.n; ++i) out.col(i) = origin_ + Vec3(x[i], y[i], z[i]);
+}
+
+// The caller's contact over substep `sub`, in double in the world, and back (the next substep
+// starts where it left the positions, rounded to float).
+void SmallStepsSolver::contactAfter(int sub) {
+    float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at(), *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
+    worldPositions(contactEnd_.x);
+    contactEnd_.v.resize(3, cloth_.n);
+    for (Index i = 0; i < cloth_.n; ++i) contactEnd_.v.col(i) = Vec3(vx[i], vy[i], vz[i]);
+    const Scalar n = plan_.substeps;
+    contact_->apply(Scalar(sub - 1) / n, Scalar(sub) / n, contactStart_, contactEnd_, plan_.h);
+    for (Index i = 0; i < cloth_.n; ++i) {
+        const Vec3 r = contactEnd_.x.col(i) - origin_;
+        x[i] = float(r.x()), y[i] = float(r.y()), z[i] = float(r.z());
+        vx[i] = float(contactEnd_.v(0, i)), vy[i] = float(contactEnd_.v(1, i)), vz[i] = float(contactEnd_.v(2, i));
+    }
+    worldPositions(contactStart_);
 }
 
 // The flag's constraints after a substep, on one thread (the same bits for any thread count): the
