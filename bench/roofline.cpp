@@ -30,7 +30,7 @@
 
 namespace {
 
-constexpr double kH = 1.0 / 240;
+constexpr double kTick = 1.0 / 240;
 constexpr int kChains = 10;
 
 // kChains independent accumulators, so the FMA (or multiply and add) pipes never wait on a result.
@@ -95,7 +95,7 @@ struct Flag33 {
     }
     cloth::StepInput input() const {
         cloth::StepInput in;
-        in.h = kH;
+        in.h = kTick;
         in.pins = flag.pins;
         return in;
     }
@@ -216,7 +216,7 @@ void stretchPass(benchmark::State& bm) {
         bm.PauseTiming();
         f.flag.state = start;
         bm.ResumeTiming();
-        limit.apply(f.flag.model, pinned, 0.1, 4, kH, f.flag.state);
+        limit.apply(f.flag.model, pinned, 0.1, 4, kTick, f.flag.state);
         benchmark::ClobberMemory();
     }
     roofCounters(bm, 4 * kStretchFlops, 4 * kStretchBytes);

@@ -2,6 +2,7 @@
 // What the physics tests share: solvers from spec strings, random vectors, states and pins. The
 // tests compare the library against computations written in the tests, independently of it.
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <random>
@@ -22,6 +23,12 @@ namespace cloth::test {
 std::unique_ptr<Solver> solverFor(const std::string& spec, const std::function<void(MultigridTuning&)>& tune = nullptr);
 
 Vec3 randomVec(std::mt19937& rng, Scalar lo, Scalar hi);
+// 64-bit FNV-1a over raw bytes, continuing from `hash` (the golden hashes).
+inline std::uint64_t fnv1a(const void* data, std::size_t bytes, std::uint64_t hash = 0xcbf29ce484222325ull) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < bytes; ++k) hash = (hash ^ p[k]) * 0x100000001b3ull;
+    return hash;
+}
 Points randomPoints(int n, Scalar magnitude, unsigned seed);
 inline Eigen::VectorXd flat(const Points& p) { return Eigen::Map<const Eigen::VectorXd>(p.data(), p.size()); }
 inline Scalar relativeError(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {

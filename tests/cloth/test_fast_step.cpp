@@ -15,14 +15,14 @@ using namespace cloth;
 
 namespace {
 
-struct Case {
+struct FastCase {
     Model model;
     State state;
     std::vector<Pin> pins;
     Points external;
 };
 
-Case randomCase(bool grid, unsigned seed) {
+FastCase randomCase(bool grid, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<Scalar> jitter(-0.02, 0.02), vel(-1, 1), force(-0.05, 0.05);
     Model model = [&] {
@@ -49,7 +49,7 @@ Case randomCase(bool grid, unsigned seed) {
     return {std::move(model), std::move(state), std::move(pins), std::move(external)};
 }
 
-Points dvOf(const std::string& spec, const Case& c, const Environment& env) {
+Points dvOf(const std::string& spec, const FastCase& c, const Environment& env) {
     SolverConfig config;
     std::string error;
     EXPECT_TRUE(parseSolverConfig(spec, config, &error)) << error;
@@ -71,7 +71,7 @@ TEST(FastStep, MatchesTheReferenceWithinRounding) {
     for (bool grid : {true, false})
         for (int iterations : {0, 1, 4})
             for (const char* compression : {"on", "off"}) {
-                const Case c = randomCase(grid, 17 + iterations);
+                const FastCase c = randomCase(grid, 17 + iterations);
                 const std::string params =
                     ":iterations=" + std::to_string(iterations) + ",compression=" + compression;
                 const Points ref = dvOf("kangcho" + params + ",impl=reference", c, env);

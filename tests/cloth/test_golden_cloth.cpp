@@ -19,6 +19,7 @@
 
 #include "cloth/cloth.h"
 #include "cloth/flag_on_pole.h"
+#include "physics_support.h"
 
 #ifndef FLAGSIM_TEST_DATA_DIR
 #error "FLAGSIM_TEST_DATA_DIR must name the directory of golden_hashes.txt (tests/CMakeLists.txt)"
@@ -28,16 +29,10 @@ using namespace cloth;
 
 namespace {
 
-std::uint64_t fnv1a(const void* data, std::size_t bytes, std::uint64_t hash = 0xcbf29ce484222325ull) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t k = 0; k < bytes; ++k) hash = (hash ^ p[k]) * 0x100000001b3ull;
-    return hash;
-}
-
 std::string hashOf(const State& s) {
     std::ostringstream out;
     out << std::hex << std::setw(16) << std::setfill('0')
-        << fnv1a(s.v.data(), sizeof(Scalar) * s.v.size(), fnv1a(s.x.data(), sizeof(Scalar) * s.x.size()));
+        << test::fnv1a(s.v.data(), sizeof(Scalar) * s.v.size(), test::fnv1a(s.x.data(), sizeof(Scalar) * s.x.size()));
     return out.str();
 }
 
@@ -102,7 +97,7 @@ State run(const SolverConfig& solver, const Family& family, ContactReport& used)
     s.contact.enabled = family.contact;
     ClothDesc desc = flagOnPole(f, pole, s.thickness);
     if (family.contact) foldOver(desc, f.nx);
-    Cloth cloth(std::move(desc), s, carrierAt(0));
+    cloth::Cloth cloth(std::move(desc), s, carrierAt(0));
     Collider floor;
     floor.center = Vec3(0, 2.2, 0);
     for (int k = 1; k <= 120; ++k) {

@@ -31,16 +31,6 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Golden hashes
 
-// 64-bit FNV-1a over raw bytes, continuing from `hash`.
-std::uint64_t fnv1a(const void* data, std::size_t bytes, std::uint64_t hash = 0xcbf29ce484222325ull) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t k = 0; k < bytes; ++k) {
-        hash ^= p[k];
-        hash *= 0x100000001b3ull;
-    }
-    return hash;
-}
-
 std::uint64_t stateHash(const State& s) {
     const std::uint64_t hx = fnv1a(s.x.data(), sizeof(Scalar) * s.x.size());
     return fnv1a(s.v.data(), sizeof(Scalar) * s.v.size(), hx);

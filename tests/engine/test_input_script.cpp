@@ -19,7 +19,7 @@ std::string writeTemp(const std::string& name, const std::string& text) {
     return path;
 }
 
-std::string errorOf(const std::string& path) {
+std::string scriptError(const std::string& path) {
     try {
         InputScript::load(path);
     } catch (const ConfigError& e) {
@@ -81,10 +81,10 @@ TEST(InputScript, BadScriptsGiveErrorsNamingFileFieldAndValue) {
     int i = 0;
     for (const Case& c : cases) {
         const std::string path = writeTemp("bad" + std::to_string(i++) + ".json", c.text);
-        const std::string e = errorOf(path);
+        const std::string e = scriptError(path);
         EXPECT_NE(e.find(path), std::string::npos) << e;
         EXPECT_NE(e.find(c.expect), std::string::npos) << "got: " << e << "\nwanted: " << c.expect;
     }
-    EXPECT_NE(errorOf("/nonexistent/drive.json").find("/nonexistent/drive.json: cannot open"),
+    EXPECT_NE(scriptError("/nonexistent/drive.json").find("/nonexistent/drive.json: cannot open"),
               std::string::npos);
 }

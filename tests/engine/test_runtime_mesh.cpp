@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-SceneConfig scene(const char* name) {
+SceneConfig meshScene(const char* name) {
     return loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/" + name + ".json");
 }
 
@@ -94,7 +94,7 @@ TEST(RuntimeMesh, TheLastMeshReadsBackToTheFlagsStateBitForBit) {
     RunOptions o;
     o.frames = 5;
     o.exportMeshDir = dir.string();
-    Runtime rt(scene("bench_cloth"), o);
+    Runtime rt(meshScene("bench_cloth"), o);
     while (rt.frame()) {
     }
     ASSERT_EQ(rt.finish(), 0);
@@ -135,7 +135,7 @@ TEST(RuntimeMesh, OneFilePerFrameNoneHalfWrittenInItsOwnPhase) {
     o.frames = 7;
     o.exportMeshDir = dir.string();
     o.outDir = out.string();
-    Runtime rt(scene("bench_cloth"), o);  // no render: a mesh per frame all the same
+    Runtime rt(meshScene("bench_cloth"), o);  // no render: a mesh per frame all the same
     while (rt.frame()) {
     }
     ASSERT_EQ(rt.finish(), 0);
@@ -164,17 +164,17 @@ TEST(RuntimeMesh, RefusedBeforeTheRunWithOneLine) {
     RunOptions o;
     o.frames = 1;
     o.exportMeshDir = file.string();
-    EXPECT_EQ(refusal(scene("bench_cloth"), o), "--export-mesh " + file.string() + ": is a file, not a folder");
+    EXPECT_EQ(refusal(meshScene("bench_cloth"), o), "--export-mesh " + file.string() + ": is a file, not a folder");
 
     const fs::path dir = freshDir("flagsim_mesh_nocloth");
     o.exportMeshDir = dir.string();
-    EXPECT_EQ(refusal(scene("vehicle_only"), o),
+    EXPECT_EQ(refusal(meshScene("vehicle_only"), o),
               "--export-mesh " + dir.string() + ": scene 'vehicle_only' has no cloth (no 'cloth' subsystem), so there "
               "is no mesh to export");
     EXPECT_FALSE(fs::exists(dir));
 
     o.exportMeshDir = (dir / "inner" / "meshes").string();
-    EXPECT_EQ(refusal(scene("bench_cloth"), o),
+    EXPECT_EQ(refusal(meshScene("bench_cloth"), o),
               "--export-mesh " + o.exportMeshDir + ": folder " + (dir / "inner").string() + " does not exist");
 
     // A non-empty folder as --out's: refused, and with --force only an earlier run's meshes go.
@@ -182,10 +182,10 @@ TEST(RuntimeMesh, RefusedBeforeTheRunWithOneLine) {
     std::ofstream(dir / "flag_000009.obj") << "an earlier run";
     std::ofstream(dir / "keep.txt") << "mine";
     o.exportMeshDir = dir.string();
-    EXPECT_EQ(refusal(scene("bench_cloth"), o),
+    EXPECT_EQ(refusal(meshScene("bench_cloth"), o),
               "--export-mesh " + dir.string() + ": folder exists and is not empty (use --force to write into it)");
     o.force = true;
-    EXPECT_EQ(refusal(scene("bench_cloth"), o), "");
+    EXPECT_EQ(refusal(meshScene("bench_cloth"), o), "");
     EXPECT_EQ(filesIn(dir), (std::set<std::string>{"keep.txt"}));
 }
 
@@ -198,7 +198,7 @@ TEST(RuntimeMesh, AFailedWriteIsReportedAtTheEndAndTheRunCompletes) {
     o.frames = 4;
     o.exportMeshDir = dir.string();
     o.outDir = out.string();
-    Runtime rt(scene("bench_cloth"), o);
+    Runtime rt(meshScene("bench_cloth"), o);
     fs::remove_all(dir);
     std::ofstream(dir) << "in the way";
     while (rt.frame()) {

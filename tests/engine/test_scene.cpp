@@ -16,7 +16,7 @@ namespace {
 
 const std::string kScenes = std::string(FLAGSIM_ASSETS_DIR) + "/scenes/";
 
-std::string errorOf(const std::string& text) {
+std::string sceneError(const std::string& text) {
     try {
         parseScene(text, kScenes + "test.json");
     } catch (const ConfigError& e) {
@@ -154,7 +154,7 @@ TEST(Scene, MalformedScenesNameFileFieldAndValue) {
         {R"({"subsystems": )", "not valid JSON"},
     };
     for (const Case& c : cases) {
-        const std::string e = errorOf(c.text);
+        const std::string e = sceneError(c.text);
         EXPECT_NE(e.find(kScenes + "test.json"), std::string::npos) << e;
         EXPECT_NE(e.find(c.expect), std::string::npos) << "scene: " << c.text << "\ngot: " << e
                                                          << "\nwanted: " << c.expect;

@@ -11,7 +11,7 @@
 namespace engine {
 
 namespace {
-InputScript fromJson(const nlohmann::json& root, const std::string& path);
+InputScript scriptFromJson(const nlohmann::json& root, const std::string& path);
 }
 
 namespace {
@@ -45,15 +45,15 @@ std::vector<InputScript::Event> readEvents(const JsonFields& top) {
 }  // namespace
 
 InputScript InputScript::load(const std::string& path) {
-    return fromJson(JsonFields::parseFile(path), path);
+    return scriptFromJson(JsonFields::parseFile(path), path);
 }
 
 InputScript InputScript::parse(const std::string& text, const std::string& path) {
-    return fromJson(JsonFields::parseText(text, path), path);
+    return scriptFromJson(JsonFields::parseText(text, path), path);
 }
 
 namespace {
-InputScript fromJson(const nlohmann::json& root, const std::string& path) {
+InputScript scriptFromJson(const nlohmann::json& root, const std::string& path) {
     using Keyframe = InputScript::Keyframe;
     using Interpolation = InputScript::Interpolation;
     JsonFields top(path, root);

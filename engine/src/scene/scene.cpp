@@ -235,7 +235,7 @@ void readRender(const JsonFields& top, SceneConfig::Render& render) {
 
 }  // namespace
 
-static SceneConfig fromJson(const nlohmann::json& root, const std::string& path);
+static SceneConfig sceneFromJson(const nlohmann::json& root, const std::string& path);
 
 const char* subsystemName(unsigned bit) {
     for (const auto& s : kSubsystemNames)
@@ -267,14 +267,14 @@ std::string resolveScenePath(const std::string& nameOrPath, const std::string& a
 }
 
 SceneConfig loadScene(const std::string& path) {
-    return fromJson(JsonFields::parseFile(path), path);
+    return sceneFromJson(JsonFields::parseFile(path), path);
 }
 
 SceneConfig parseScene(const std::string& text, const std::string& path) {
-    return fromJson(JsonFields::parseText(text, path), path);
+    return sceneFromJson(JsonFields::parseText(text, path), path);
 }
 
-static SceneConfig fromJson(const nlohmann::json& root, const std::string& path) {
+static SceneConfig sceneFromJson(const nlohmann::json& root, const std::string& path) {
     const JsonFields top(path, root);
     top.allowOnly({"name", "description", "subsystems", "timing", "script", "vehicle", "pole",
                    "flag", "air", "camera", "render"});

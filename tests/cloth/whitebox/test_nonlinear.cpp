@@ -16,16 +16,13 @@
 #include "cloth/presets.h"
 #include "cloth/solver.h"
 #include "multigrid/gmres.h"
+#include "physics_support.h"
 #include "solver_spec.h"
 
 using namespace cloth;
+using cloth::test::randomVec;
 
 namespace {
-
-Vec3 randomVec(std::mt19937& rng, Scalar lo, Scalar hi) {
-    std::uniform_real_distribution<Scalar> u(lo, hi);
-    return Vec3(u(rng), u(rng), u(rng));
-}
 
 // A small flag, crumpled and moving, in a wind from `seed`'s direction.
 struct AirCase {
