@@ -3,7 +3,7 @@
 // symplectic Euler at the study's substeps and at twice as many, gives the same p99 stretch and
 // kinetic energy to within 5% and positions to a thousandth of the flag's width (RMS);
 // at an eighth of the substeps the same check fails, so it can tell a converged run from one
-// that is not.
+// that is not. The same holds for the demo's flag with contact (after every substep).
 
 #include <gtest/gtest.h>
 
@@ -35,9 +35,10 @@ engine::SceneConfig scene(const char* name) {
 }
 
 // The reference of `flag`'s scene (its whole model: the demo's has its constraints) at 17 per side
-// in case x (the short spin unless named).
-ReferenceRun reference(const char* flag, int substeps, const study::Extreme& x = shortSpin()) {
-    const engine::SceneConfig s = study::referenceScene(study::extremeScene(scene(flag), x, 17), substeps);
+// in case x (the short spin unless named), with contact or not.
+ReferenceRun reference(const char* flag, int substeps, const study::Extreme& x = shortSpin(), bool contact = false) {
+    engine::SceneConfig s = study::referenceScene(study::extremeScene(scene(flag), x, 17), substeps);
+    s.flag.contact.enabled = contact;
     return {study::runExtreme(s, study::extremeMount(scene("flag_vehicle")), x, true), 1.0 / s.physicsHz};
 }
 
@@ -57,8 +58,9 @@ std::pair<double, double> change(const ReferenceRun& a, const ReferenceRun& b) {
 // The check of both flags' references: at the study's substeps and at twice as many the figures
 // change by under 5% and positions by under a thousandth of the width; at an eighth of them the
 // check fails (so it can tell a converged run from one that is not).
-void expectConvergesUnderHalving(const char* flag, int substeps) {
-    const ReferenceRun base = reference(flag, substeps), half = reference(flag, 2 * substeps);
+void expectConvergesUnderHalving(const char* flag, int substeps, bool contact = false) {
+    const study::Extreme x = shortSpin();
+    const ReferenceRun base = reference(flag, substeps, x, contact), half = reference(flag, 2 * substeps, x, contact);
     ASSERT_TRUE(base.run.stable && half.run.stable);
     ASSERT_GT(base.run.energyMean, 1e-3) << "the spin should move the flag";
     const auto [figures, distance] = change(base, half);
@@ -66,7 +68,7 @@ void expectConvergesUnderHalving(const char* flag, int substeps) {
                              << base.run.energyMean << " / " << half.run.energyMean;
     EXPECT_LE(distance, 1e-3);
     // An eighth of the substeps is not converged (or not stable): the check tells them apart.
-    const ReferenceRun coarse = reference(flag, std::max(1, substeps / 8));
+    const ReferenceRun coarse = reference(flag, std::max(1, substeps / 8), x, contact);
     const auto [coarseFigures, coarseDistance] = change(coarse, half);
     EXPECT_TRUE(!coarse.run.stable || coarseFigures > 0.05 || coarseDistance > 1e-3)
         << "figures " << coarseFigures << ", distance " << coarseDistance;
@@ -82,6 +84,13 @@ TEST(Reference, HalvingItsStepChangesItsFiguresByUnderFivePercent) {
 // at every substep.
 TEST(Reference, TheDemoFlagsWithItsConstraintsConvergesUnderHalving) {
     expectConvergesUnderHalving("flag_vehicle", study::referenceSubsteps(24, 17, shortSpin()));
+}
+
+// The demo's flag with contact (cloth/contact.h, the study's --contact): the pole and the flag
+// itself kept apart after every substep. (The stiff flag's, at 83 substeps per tick, takes minutes:
+// the folded spin keeps hundreds of close pairs at every substep.)
+TEST(Reference, TheDemoFlagsWithContactConvergesUnderHalving) {
+    expectConvergesUnderHalving("flag_vehicle", study::referenceSubsteps(24, 17, shortSpin()), true);
 }
 
 // The pins' pace (extreme_runs.h): no pin moves more than 1 cm in a substep. A 1 m teleport in one

@@ -107,6 +107,8 @@ int planFront(const StudyOptions& o, FrontWork& w) {
         std::fprintf(stderr, "cloth_study: the stiff flag's scene: %s\n", why.c_str());
         return 1;
     }
+    if (o.contact)
+        for (engine::SceneConfig* s : {&w.flags.demo, &w.flags.stiff}) s->flag.contact.enabled = true;
     w.configs = configurations(o, &why);
     if (w.configs.empty()) return usageError(why);
     std::string unknown;

@@ -8,8 +8,8 @@
 //     (a changed path, the drive's Bullet run included, is another key);
 //   - whether the states are kept;
 //   - the code's version: the bits that the reference's integrator and the run's figures
-//     compute on a small flag through a short, hard path (integratorVersion()), so that a change
-//     of the code that moves them is another key too.
+//     compute on a small flag through a short, hard path, without contact and with it
+//     (integratorVersion()), so that a change of the code that moves them is another key too.
 // An entry holds its whole key and a checksum: one with another key, or truncated or corrupt, is
 // refused and recomputed, never trusted. Entries are written to a temporary name and renamed, so
 // that shards running at once never read half an entry.

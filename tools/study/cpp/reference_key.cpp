@@ -82,6 +82,23 @@ std::string referenceKey(const engine::SceneConfig& s, const engine::PoleMount& 
            "states " + (keepStates ? "kept" : "none") + "\n";
 }
 
+namespace {
+
+// A run as the cache stores it, every state whole, into the hash h.
+std::uint64_t hashOf(ExtremeRun r, std::uint64_t h) {
+    r.msPerTick = 0;  // the clock's, not the code's
+    for (const cloth::State& st : r.states) h = fnv1a(st.v.data(), st.v.size() * sizeof(double), fnv1a(st.x.data(), st.x.size() * sizeof(double), h));
+    const double figures[] = {double(r.stable), double(r.failures), r.maxStretch, r.peakStretch, r.p99Stretch,
+                              r.lateStretch, r.maxSpeed, r.energyMean, r.energyLate, r.patchEnergyLate[0],
+                              r.patchEnergyLate[1], r.patchEnergyLate[2], r.iterationsMean, double(r.iterationsMax),
+                              double(r.crossingsMax), double(r.crossingTicks)};
+    h = fnv1a(figures, sizeof figures, h);
+    return fnv1a(r.energyWindows.data(), r.energyWindows.size() * sizeof(double), h);
+}
+
+}  // namespace
+
+// The small flag's reference through the version path, without contact and with it.
 const std::string& integratorVersion() {
     static const std::string version = [] {
         engine::SceneConfig s;
@@ -90,17 +107,9 @@ const std::string& integratorVersion() {
         s.flag.constraints.tether = 0.02, s.flag.constraints.stretchLimit = 0.1;
         const Extreme x = versionPath();
         s.air.wind = Eigen::Vector3d(x.wind, 0, 0);
-        ExtremeRun r = runExtreme(referenceScene(s, 8), engine::PoleMount{}, x, true);
-        r.msPerTick = 0;  // the clock's, not the code's
-        // The run as the cache stores it, every state whole.
-        std::uint64_t h = fnv1a(nullptr, 0);
-        for (const cloth::State& st : r.states) h = fnv1a(st.v.data(), st.v.size() * sizeof(double), fnv1a(st.x.data(), st.x.size() * sizeof(double), h));
-        const double figures[] = {double(r.stable), double(r.failures), r.maxStretch, r.peakStretch, r.p99Stretch,
-                                  r.lateStretch, r.maxSpeed, r.energyMean, r.energyLate, r.patchEnergyLate[0],
-                                  r.patchEnergyLate[1], r.patchEnergyLate[2], r.iterationsMean, double(r.iterationsMax),
-                                  double(r.crossingsMax), double(r.crossingTicks)};
-        h = fnv1a(figures, sizeof figures, h);
-        h = fnv1a(r.energyWindows.data(), r.energyWindows.size() * sizeof(double), h);
+        std::uint64_t h = hashOf(runExtreme(referenceScene(s, 8), engine::PoleMount{}, x, true), fnv1a(nullptr, 0));
+        s.flag.contact.enabled = true;
+        h = hashOf(runExtreme(referenceScene(s, 8), engine::PoleMount{}, x, true), h);
         char b[20];
         std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(h));
         return std::string(b);

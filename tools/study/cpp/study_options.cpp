@@ -51,6 +51,9 @@ and in six extreme cases, every configuration against the flag's fine-step refer
   --demo-scene S       the demo's flag (a scene name or a .json path; default flag_vehicle): its
                        size, mass, stiffness, constraints, air, vehicle and drive script, and, as
                        `shipped`, its solver
+  --contact            both flags with contact (flag.contact: no edge through the pole or the flag
+                       itself), in every configuration and in their references (the front's rows
+                       then answer for the model with contact; keep them in another --out)
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
                        numbers; tools/study/study.py merge-shards joins the parts)
   --export-nvidia-newton DIR
@@ -159,6 +162,7 @@ int parseOptions(int argc, char** argv, StudyOptions& o) {
         else if (a == "--parallel") o.parallel = true;
         else if (a == "--no-cache") o.cacheDir.clear();
         else if (a == "--progress-lines") o.progressLines = true;
+        else if (a == "--contact") o.contact = true;
         else if (i + 1 >= argc) return usageError("unknown or incomplete option '" + a + "'");
         else if (const int code = readValueOption(a, argv[++i], o); code >= 0) return code;
     }

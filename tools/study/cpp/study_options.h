@@ -18,6 +18,7 @@ struct StudyOptions {
     std::vector<double> teleports;  // more teleport paths, by the jump in m (--teleports)
     std::string cacheDir = FLAGSIM_STUDY_CACHE_DIR;  // the references' cache (--cache-dir; --no-cache: "")
     bool progressLines = false;  // a line per row even on a terminal (--progress-lines)
+    bool contact = false;        // both flags, their references too, with contact (--contact)
 };
 
 // Reads the command line into `o`. Returns -1 to go on, else the exit code: 0 after --help, 2 for
