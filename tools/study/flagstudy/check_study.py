@@ -22,10 +22,11 @@ from flagstudy.checks.run_outputs import check_run
 from flagstudy.checks.stiff_flag_findings import STIFF_FLAG_FINDINGS
 from flagstudy.checks.study_findings import STUDY_FINDINGS
 from flagstudy.checks.vbd_findings import VBD_FINDINGS
+from flagstudy.checks.contact_findings import CONTACT_FINDINGS
 
 # Every named finding, each doc's in the order it cites them: docs/study.md (its opening front table
 # and the demo flag's front findings first), docs/multigrid.md, docs/stiff_flag.md.
-DOC_CHECKS = (FRONT_FINDINGS + FRONT_DEMO_FINDINGS + VBD_FINDINGS + STUDY_FINDINGS + DEMO_DEFAULT_FINDINGS
+DOC_CHECKS = (FRONT_FINDINGS + FRONT_DEMO_FINDINGS + VBD_FINDINGS + CONTACT_FINDINGS + STUDY_FINDINGS + DEMO_DEFAULT_FINDINGS
               + MULTIGRID_FINDINGS + STIFF_FLAG_FINDINGS)
 
 

@@ -16,8 +16,8 @@ KEYS = {
     "front.csv": ("flag", "path", "size", "config"),
     "error_vs_runtime.csv": ("scene", "size", "stiffness", "h", "duration", "family", "solver"),
 }
-TELEPORT_FILES = ("teleports_demo.csv", "teleports_stiff.csv", "small_steps_margin.csv")  # front.csv's form
-for _name in TELEPORT_FILES:
+FRONT_FORM = ("teleports_demo.csv", "teleports_stiff.csv", "small_steps_margin.csv", "front_contact.csv")  # front.csv's form
+for _name in FRONT_FORM:
     KEYS[_name] = KEYS["front.csv"]
 
 
