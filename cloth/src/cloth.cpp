@@ -201,10 +201,8 @@ void Cloth::makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h) 
 // The contact stage over one motion, its report added to the step's and its time to the profile's.
 void Cloth::contactOver(const RigidFrame& from, const RigidFrame& to, const Points& xStart, State& state, Scalar h) {
     const auto t0 = Clock::now();
-    const ContactReport r = contactStage_.apply(model_, pinned_, xStart, state, from, to, solids_, settings_.contact, h);
+    contactReport_ += contactStage_.apply(model_, pinned_, xStart, state, from, to, solids_, settings_.contact, h);
     profile_.contact += msBetween(t0, Clock::now());
-    contactReport_.subintervals += r.subintervals, contactReport_.selfPairs += r.selfPairs;
-    contactReport_.near += r.near, contactReport_.limited += r.limited;
 }
 
 // Inside the solver's step, on its thread: no stage is told to the observer (it is inside the

@@ -182,7 +182,7 @@ TEST(Cloth, ContactAtEverySubstepKeepsAFineStepsSpringsWhole) {
     // Contact runs after every substep, over the substep's motion: no spring of a fine-step
     // integrator ends over 15% long (without contact: 8-10%). Contact once per tick over many
     // substeps instead held back particles that the springs then pulled through: 308% within the
-    // half second for the reference's integrator, 60-220% for small_steps.
+    // half second for the reference's integrator, 223% for small_steps.
     StageCount explicitCount;
     int subintervals = 0;
     // The reference's integrator: 24 substeps of the cloth, contact after each (by the cloth).

@@ -50,6 +50,10 @@ struct ContactReport {
     int selfPairs = 0;     // self pairs from the broad phase
     int near = 0;          // vertices and edges near a solid
     int limited = 0;       // particle moves cut short by their bounds, summed over sub-intervals
+    ContactReport& operator+=(const ContactReport& r) {  // two applications' work together
+        subintervals += r.subintervals, selfPairs += r.selfPairs, near += r.near, limited += r.limited;
+        return *this;
+    }
 };
 
 class ContactStage {

@@ -97,7 +97,9 @@ private:
     void meet(int index);
     void constrain();
     void contactAfter(int sub);
+    void setState(const State& state);
     void worldPositions(Points& out) const;
+    void worldState(State& out) const;
     void store();
 
     StencilCloth cloth_;
@@ -131,12 +133,7 @@ Vec3 poleVelocity(const StepInput& input) { return input.pins.empty() ? Vec3::Ze
 // colliders, and the substeps of this step.
 void SmallStepsSolver::load(const Model& model, const Environment& env, const State& state, const StepInput& input) {
     origin_ = input.pins.empty() ? Vec3(state.x.col(0)) : Vec3(state.x.col(input.pins.front().particle));
-    float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at(), *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
-    for (Index i = 0; i < cloth_.n; ++i) {
-        const Vec3 r = state.x.col(i) - origin_;
-        x[i] = float(r.x()), y[i] = float(r.y()), z[i] = float(r.z());
-        vx[i] = float(state.v(0, i)), vy[i] = float(state.v(1, i)), vz[i] = float(state.v(2, i));
-    }
+    setState(state);
     startV_ = state.v;
     loadPins(input);
     IntegrateConstants& c = plan_.integrate;
@@ -246,27 +243,38 @@ void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
     }
 }
 
-// The positions in the world, in double, as store() gives them.
+// A state in the world, in double, into the float fields: positions relative to the origin.
+void SmallStepsSolver::setState(const State& state) {
+    float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at(), *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
+    for (Index i = 0; i < cloth_.n; ++i) {
+        const Vec3 r = state.x.col(i) - origin_;
+        x[i] = float(r.x()), y[i] = float(r.y()), z[i] = float(r.z());
+        vx[i] = float(state.v(0, i)), vy[i] = float(state.v(1, i)), vz[i] = float(state.v(2, i));
+    }
+}
+
+// The positions in the world, in double: x = origin + relative position.
 void SmallStepsSolver::worldPositions(Points& out) const {
     out.resize(3, cloth_.n);
     const float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at();
     for (Index i = 0; i < cloth_.n; ++i) out.col(i) = origin_ + Vec3(x[i], y[i], z[i]);
 }
 
+// The state in the world, in double (setState's inverse up to float rounding).
+void SmallStepsSolver::worldState(State& out) const {
+    worldPositions(out.x);
+    out.v.resize(3, cloth_.n);
+    const float *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
+    for (Index i = 0; i < cloth_.n; ++i) out.v.col(i) = Vec3(vx[i], vy[i], vz[i]);
+}
+
 // The caller's contact over substep `sub`, in double in the world, and back (the next substep
 // starts where it left the positions, rounded to float).
 void SmallStepsSolver::contactAfter(int sub) {
-    float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at(), *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
-    worldPositions(contactEnd_.x);
-    contactEnd_.v.resize(3, cloth_.n);
-    for (Index i = 0; i < cloth_.n; ++i) contactEnd_.v.col(i) = Vec3(vx[i], vy[i], vz[i]);
+    worldState(contactEnd_);
     const Scalar n = plan_.substeps;
     contact_->apply(Scalar(sub - 1) / n, Scalar(sub) / n, contactStart_, contactEnd_, plan_.h);
-    for (Index i = 0; i < cloth_.n; ++i) {
-        const Vec3 r = contactEnd_.x.col(i) - origin_;
-        x[i] = float(r.x()), y[i] = float(r.y()), z[i] = float(r.z());
-        vx[i] = float(contactEnd_.v(0, i)), vy[i] = float(contactEnd_.v(1, i)), vz[i] = float(contactEnd_.v(2, i));
-    }
+    setState(contactEnd_);
     worldPositions(contactStart_);
 }
 
@@ -288,15 +296,9 @@ void SmallStepsSolver::constrain() {
     }
 }
 
-// Back to the world, in double: x = origin + relative position; dv over the step.
+// Back to the world, in double; dv over the step.
 void SmallStepsSolver::store() {
-    scratch_.x.resize(3, cloth_.n);
-    scratch_.v.resize(3, cloth_.n);
-    const float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at(), *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
-    for (Index i = 0; i < cloth_.n; ++i) {
-        scratch_.x.col(i) = origin_ + Vec3(x[i], y[i], z[i]);
-        scratch_.v.col(i) = Vec3(vx[i], vy[i], vz[i]);
-    }
+    worldState(scratch_);
     dv_ = scratch_.v - startV_;
 }
 

@@ -18,7 +18,8 @@ def crossing_paths(docs, flag, config):
 
 
 def missed(docs, flag, config):
-    return {p: row(docs, flag, p, config)["misses"] for p in PATHS if row(docs, flag, p, config)["misses"]}
+    misses = {p: row(docs, flag, p, config)["misses"] for p in PATHS}
+    return {p: m for p, m in misses.items() if m}
 
 
 def c_contact_no_crossing(docs):
