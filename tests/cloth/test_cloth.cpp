@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "cloth/cloth.h"
+#include "cloth/crossings.h"
 #include "cloth/flag_on_pole.h"
 
 using namespace cloth;
@@ -196,4 +197,38 @@ TEST(Cloth, ContactAtEverySubstepKeepsAFineStepsSpringsWhole) {
     EXPECT_LT(worstStretchWithContact("small_steps:max_move=0.01", 1, smallCount, subintervals), 0.15);
     EXPECT_EQ(smallCount.contact, 0);
     EXPECT_GT(subintervals, 2 * 120);
+}
+
+TEST(Cloth, APaperStepFlagTeleportedOneMetreWithContactEndsNoTickCrossed) {
+    // The paper's step at 25x25 with contact: the carrier jumps 1 m, so in the carrier's frame the
+    // step throws the flag 1 m, and the sheet, flat at both ends of the next step, folds on the way.
+    // The checker (crossings.h, from the states alone) counts no crossing after any tick. A broad
+    // phase that judged flatness from the step's two ends alone skipped the folding patches: 13
+    // edges through the cloth after the jump's next tick, 61 after the one after.
+    FlagDesc f;
+    f.width = 1.5, f.height = 1.0, f.mass = 0.25, f.stiffness = Stiffness{1000, 100, 5}, f.onShell = true;
+    f.nx = f.ny = 25;
+    Pole pole;
+    const auto carrier = [](int tick) {
+        RigidFrame c;
+        if (tick >= 10) c.position = Vec3(1, 0, 0);
+        return c;
+    };
+    ClothSettings s = flagSettings("kangcho:iterations=1,precision=float,compression=on");
+    s.airParams.wind = Vec3::Zero();
+    s.constraints.tether = 0.02, s.constraints.stretchLimit = 0.1, s.constraints.stretchPasses = 4;
+    s.environment.drag = 0.05;
+    s.implicitAir = false;
+    s.contact.enabled = true;
+    Cloth cloth(flagOnPole(f, pole, s.thickness), s, carrier(0));
+    int pairs = 0;
+    for (int k = 1; k <= 12; ++k) {
+        cloth.step(1.0 / 240, carrier(k), {poleCollider(pole, carrier(k))});
+        CrossingScene scene;
+        scene.capsules.push_back({carrier(k).point(pole.base), carrier(k).point(pole.base + Vec3(0, pole.height, 0)), pole.radius});
+        EXPECT_EQ(countCrossings(cloth.model(), cloth.state().x, scene).total(), 0) << "tick " << k;
+        if (k >= 10) pairs += cloth.contactReport().selfPairs;
+    }
+    EXPECT_GT(pairs, 0);  // the folding patches were searched
+    EXPECT_EQ(cloth.failures(), 0);
 }

@@ -10,14 +10,36 @@ namespace cloth::contact {
 
 namespace {
 
-// A node (or two adjacent ones) whose normals lie within acos(kFlat) of one axis cannot fold onto
-// itself: 85 degrees, a margin under Volino's 90 for the step's motion between its two ends.
+// A node (or two adjacent ones) whose normals lie within acos(kFlat) of one axis at every moment of
+// the step cannot fold onto itself: 85 degrees, a margin under Volino's 90 for rounding.
 constexpr Scalar kFlat = 0.087;
 
-Vec3 normalOf(const Points& y, const Triangle& t) {
-    const Vec3 n = (y.col(t[1]) - y.col(t[0])).cross(y.col(t[2]) - y.col(t[0]));
-    const Scalar len = n.norm();
-    return len > 0 ? Vec3(n / len) : Vec3::Zero();
+// A cone holding every normal a triangle takes during the step, whatever path each corner takes
+// within `reach[i]` of the midpoint of its straight move: with edges a, b at the midpoint and each
+// edge moving at most the sum of its ends' reaches (da, db), the normal a x b moves at most
+// e = da |b| + |a| db + da db, so it stays within asin(e / |a x b|) of the midpoint's normal. A
+// triangle that could flip (e >= |a x b|) holds every direction (cosHalf -1).
+struct Cone {
+    Vec3 axis = Vec3::UnitZ();
+    Scalar cosHalf = -1;
+};
+
+Cone motionCone(const Points& y0, const Points& y1, const std::vector<Scalar>& reach, const Triangle& t) {
+    auto mid = [&](int k) { return Vec3(0.5 * (y0.col(t[k]) + y1.col(t[k]))); };
+    const Vec3 a = mid(1) - mid(0), b = mid(2) - mid(0), n = a.cross(b);
+    const Scalar da = reach[t[0]] + reach[t[1]], db = reach[t[0]] + reach[t[2]];
+    const Scalar e = da * b.norm() + a.norm() * db + da * db, len = n.norm();
+    if (e >= len) return {};
+    const Scalar sine = e / len;
+    return {n / len, std::sqrt(1 - sine * sine)};
+}
+
+// The cosine of the widest angle to `axis` of a cone (c, cos of its half-angle cc): cos(t + w) =
+// cos t cos w - sin t sin w, with no inverse cosine; a sum that reaches pi holds every direction.
+Scalar widest(const Vec3& axis, const Vec3& c, Scalar cc) {
+    const Scalar ct = std::clamp(c.dot(axis), Scalar(-1), Scalar(1)), cw = std::clamp(cc, Scalar(-1), Scalar(1));
+    if (ct <= -cw) return Scalar(-1);
+    return ct * cw - std::sqrt((1 - ct * ct) * (1 - cw * cw));
 }
 
 // The cone holding two cones (axis, cos of half-angle): its axis the normalized sum, its angle
@@ -30,12 +52,7 @@ void mergeCones(const Vec3& a, Scalar ca, const Vec3& b, Scalar cb, Vec3& axis, 
         return;
     }
     axis = sum.normalized();
-    auto widest = [&](const Vec3& c, Scalar cc) {
-        const Scalar ct = std::clamp(c.dot(axis), Scalar(-1), Scalar(1)), cw = std::clamp(cc, Scalar(-1), Scalar(1));
-        if (ct <= -cw) return Scalar(-1);
-        return ct * cw - std::sqrt((1 - ct * ct) * (1 - cw * cw));
-    };
-    cosHalf = std::min(widest(a, ca), widest(b, cb));
+    cosHalf = std::min(widest(axis, a, ca), widest(axis, b, cb));
 }
 
 // The box holding two boxes: the same bits as adding both to an empty box.
@@ -110,11 +127,26 @@ void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, S
     edgeBox_.resize(edges_.size());
     for (std::size_t e = 0; e < edges_.size(); ++e) edgeBox_[e] = joined(vertexBox_[edges_[e][0]], vertexBox_[edges_[e][1]]);
     triangleBox_.resize(triangles_.size());
-    normal0_.resize(triangles_.size()), normal1_.resize(triangles_.size());
     for (std::size_t t = 0; t < triangles_.size(); ++t) {
         const Triangle& tri = triangles_[t];
         triangleBox_[t] = joined(joined(vertexBox_[tri[0]], vertexBox_[tri[1]]), vertexBox_[tri[2]]);
-        normal0_[t] = normalOf(y0, tri), normal1_[t] = normalOf(y1, tri);
+    }
+    cellBox_.assign(cellTriangles_.size(), Box{});
+    for (std::size_t c = 0; c < cellTriangles_.size(); ++c)
+        for (Index t : cellTriangles_[c]) cellBox_[c].add(triangleBox_[t]);
+    margin_ = margin;
+    widen(y0, y1, {});
+}
+
+void BroadPhase::widen(const Points& y0, const Points& y1, const std::vector<std::uint8_t>& pushed) {
+    const Index n = Index(y0.cols());
+    reach_.resize(n);
+    for (Index i = 0; i < n; ++i)
+        reach_[i] = 0.5 * (y1.col(i) - y0.col(i)).norm() + (pushed.empty() || !pushed[i] ? 0 : margin_ / 2);
+    coneAxis_.resize(triangles_.size()), coneCos_.resize(triangles_.size());
+    for (std::size_t t = 0; t < triangles_.size(); ++t) {
+        const Cone c = motionCone(y0, y1, reach_, triangles_[t]);
+        coneAxis_[t] = c.axis, coneCos_[t] = c.cosHalf;
     }
     refitNode(0);
 }
@@ -131,14 +163,11 @@ void BroadPhase::refitNode(int n) {
         };
         eachTriangle([&](Index t) {
             node.box.add(triangleBox_[t]);
-            sum += normal0_[t] + normal1_[t];
+            sum += coneAxis_[t];
         });
         node.axis = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
         node.cosHalf = 1;
-        eachTriangle([&](Index t) {
-            for (const Vec3* m : {&normal0_[t], &normal1_[t]})
-                node.cosHalf = std::min(node.cosHalf, m->squaredNorm() > 0 ? m->dot(node.axis) : Scalar(-1));
-        });
+        eachTriangle([&](Index t) { node.cosHalf = std::min(node.cosHalf, widest(node.axis, coneAxis_[t], coneCos_[t])); });
         return;
     }
     bool first = true;
@@ -151,6 +180,16 @@ void BroadPhase::refitNode(int n) {
         else mergeCones(nodes_[n].axis, nodes_[n].cosHalf, child.axis, child.cosHalf, nodes_[n].axis, nodes_[n].cosHalf);
         first = false;
     }
+}
+
+// Two cells' primitives can form a pair only if the cells' boxes (each holding its triangles, and
+// so the vertices and edges it owns) overlap and the cells are more than one cell apart: within one,
+// every corner of one lies within kExcludedCells of every corner of the other.
+static_assert(kExcludedCells >= 2, "mayMeet skips cells within one of each other");
+bool BroadPhase::mayMeet(int a, int b) const {
+    const int w = nx_ - 1;
+    if (std::abs(a / w - b / w) <= 1 && std::abs(a % w - b % w) <= 1) return false;
+    return cellBox_[a].overlaps(cellBox_[b]);
 }
 
 bool BroadPhase::far(Index u, Index v) const {
@@ -221,6 +260,7 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
         const Flags in = flag(V, cellVertices_, vertexBox_, T.box);
         cells(V, [&](int cv, int kv) {
             cells(T, [&](int ct, int) {
+                if (!mayMeet(cv, ct)) return;
                 for (std::size_t i = 0; i < cellVertices_[cv].size(); ++i) {
                     const Index v = cellVertices_[cv][i];
                     if (i < 8 && !in[kv][i]) continue;
@@ -231,10 +271,10 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
             });
         });
     };
-    vertexTriangles(A, B), vertexTriangles(B, A);
-    const Flags inB = flag(A, cellEdges_, edgeBox_, B.box);
+    vertexTriangles(A, B), vertexTriangles(B, A);    const Flags inB = flag(A, cellEdges_, edgeBox_, B.box);
     cells(A, [&](int ca, int ka) {
         cells(B, [&](int cb, int) {
+            if (!mayMeet(ca, cb)) return;
             for (std::size_t i = 0; i < cellEdges_[ca].size(); ++i) {
                 const Index e = cellEdges_[ca][i];
                 if (i < 8 && !inB[ka][i]) continue;

@@ -2,8 +2,10 @@
 // The contact stage's broad phase on a grid cloth: which primitives may come within reach of each
 // other, or of an obstacle, during one step. A quadtree over the grid's cells (built once per
 // model) holds, after each refit, every node's box swept over the step (its particles at the start
-// and at the end, grown by a margin) and its normal cone (every triangle normal at both ends within
-// a half-angle of an axis).
+// and at the end, grown by a margin) and its normal cone: every normal its triangles can take
+// during the step, within a half-angle of an axis, while each particle keeps to its straight move
+// or, where the contact stage may push it, within margin / 2 of that move (cones at the step's two
+// ends alone miss a patch that folds on the way).
 //   - Self pairs: vertex-triangle and edge-edge pairs at least kExcludedCells + 1 cells apart whose
 //     swept boxes overlap. A node whose normals lie within 90 degrees of one axis cannot fold onto
 //     itself (Volino and Magnenat-Thalmann 1994), nor can two adjacent nodes whose joint cone does:
@@ -38,8 +40,12 @@ class BroadPhase {
 public:
     // The grid's quadtree, its mesh edges and each primitive's cell; redone when the model changes.
     void prepare(const Model& model);
-    // The swept boxes and normal cones of the step from y0 to y1 (carrier frame), grown by margin.
+    // The swept boxes of the step from y0 to y1 (carrier frame), grown by margin, and the normal
+    // cones of its motion with every particle on its straight move.
     void refit(const Model& model, const Points& y0, const Points& y1, Scalar margin);
+    // The normal cones again, with each particle that `pushed` flags anywhere within margin / 2 of
+    // its straight move (the contact stage's pushes).
+    void widen(const Points& y0, const Points& y1, const std::vector<std::uint8_t>& pushed);
     // The self pairs that may touch during the step.
     void selfPairs(std::vector<Pair>& out) const;
     // The free vertices and mesh edges whose swept boxes reach `box`.
@@ -63,6 +69,7 @@ private:
     void self(int n, std::vector<Pair>& out) const;
     void cross(int a, int b, std::vector<Pair>& out) const;
     void leafPairs(const Node& a, const Node& b, std::vector<Pair>& out) const;
+    bool mayMeet(int cellA, int cellB) const;
     bool far(Index u, Index v) const;  // more than kExcludedCells cells apart
     bool farTriangle(Index v, Index t) const;
     bool farEdges(Index e, Index f) const;
@@ -75,8 +82,11 @@ private:
     std::vector<Triangle> triangles_;
     // Per cell: its triangles, the vertices and edges it owns.
     std::vector<std::vector<Index>> cellTriangles_, cellVertices_, cellEdges_;
-    std::vector<Box> vertexBox_, edgeBox_, triangleBox_;
-    std::vector<Vec3> normal0_, normal1_;
+    std::vector<Box> vertexBox_, edgeBox_, triangleBox_, cellBox_;
+    Scalar margin_ = 0;
+    std::vector<Scalar> reach_;      // each particle's distance from its move's midpoint, at most
+    std::vector<Vec3> coneAxis_;     // each triangle's normal cone over the step
+    std::vector<Scalar> coneCos_;
 };
 
 }  // namespace cloth::contact

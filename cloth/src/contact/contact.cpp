@@ -66,6 +66,7 @@ struct ContactStage::Work {
     Points y0, y1, y, target;
     std::vector<Scalar> bound, invMass;
     std::vector<std::uint8_t> active;
+    std::vector<std::uint8_t> pushed;  // free particles that contact may push off their straight moves
     std::vector<Index> moving;  // the active free particles, in increasing order
     std::vector<Index> touched;  // the active and the pinned particles, in increasing order: all a sub-interval moves
     std::vector<Pair> pairs;
@@ -111,6 +112,7 @@ struct ContactStage::Work {
     void gather(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned, const Points& xStart, const State& state,
                 const RigidFrame& from, const RigidFrame& to, const std::vector<Collider>& solids,
                 const ContactSettings& settings, ContactReport& report);
+    void selfPairs(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned);
     Scalar markActive(const std::vector<std::uint8_t>& pinned);
     void advance(Scalar f, const std::vector<std::uint8_t>& pinned, ContactReport& report);
 };
@@ -286,17 +288,38 @@ void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<st
     reachOf.resize(n);
     for (Index i = 0; i < n; ++i) reachOf[i] = (y1.col(i) - y0.col(i)).norm();
     edges = &broad.edges(), thickness = settings.thickness;
-    pairs.clear();
-    if (settings.self) broad.selfPairs(pairs);
     near.clear();
+    pushed.assign(n, 0);
+    auto mayPush = [&](Index i) { pushed[i] = !pinned[i]; };
     for (const Collider& c : solids) {
         Near nr{&c, {}, {}};
         broad.near(boxOf(c, 2 * settings.thickness), pinned, nr.vertices, nr.edges);
         report.near += int(nr.vertices.size() + nr.edges.size());
+        for (Index i : nr.vertices) mayPush(i);
+        for (Index e : nr.edges) mayPush((*edges)[e][0]), mayPush((*edges)[e][1]);
         if (!nr.vertices.empty() || !nr.edges.empty()) near.push_back(std::move(nr));
     }
-    filter(settings.thickness);
+    pairs.clear(), ids.clear(), gap.clear();
+    if (settings.self) selfPairs(broad, pinned);
     report.selfPairs = int(pairs.size());
+}
+
+// The self pairs, with the normal cones widened where contact may push a particle off its straight
+// move: a particle in a pair or near a solid. Widening can open a flat node and give more pairs, and
+// with them more particles to push: repeated until no pair adds one (each round adds at least one
+// particle, so it ends).
+void ContactStage::Work::selfPairs(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned) {
+    bool grew = std::find(pushed.begin(), pushed.end(), 1) != pushed.end();
+    for (;;) {
+        if (grew) broad.widen(y0, y1, pushed);
+        broad.selfPairs(pairs);
+        filter(thickness);
+        grew = false;
+        for (const auto& q : ids)
+            for (Index i : q)
+                if (!pushed[i] && !pinned[i]) pushed[i] = 1, grew = true;
+        if (!grew) return;
+    }
 }
 
 // The particles the pairs and the solids' primitives involve (active), the free ones among them
