@@ -135,7 +135,7 @@ void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, S
     for (std::size_t c = 0; c < cellTriangles_.size(); ++c)
         for (Index t : cellTriangles_[c]) cellBox_[c].add(triangleBox_[t]);
     margin_ = margin;
-    widen(y0, y1, {});
+    refitBoxes(0);
 }
 
 void BroadPhase::widen(const Points& y0, const Points& y1, const std::vector<std::uint8_t>& pushed) {
@@ -148,34 +148,43 @@ void BroadPhase::widen(const Points& y0, const Points& y1, const std::vector<std
         const Cone c = motionCone(y0, y1, reach_, triangles_[t]);
         coneAxis_[t] = c.axis, coneCos_[t] = c.cosHalf;
     }
-    refitNode(0);
+    refitCones(0);
 }
 
-void BroadPhase::refitNode(int n) {
+// A node's triangles, leaf by leaf.
+template <class F>
+void BroadPhase::eachTriangle(const Node& node, F fn) const {
+    for (int r = node.r0; r < node.r1; ++r)
+        for (int c = node.c0; c < node.c1; ++c)
+            for (Index t : cellTriangles_[r * (nx_ - 1) + c]) fn(t);
+}
+
+void BroadPhase::refitBoxes(int n) {
     Node& node = nodes_[n];
     node.box = Box{};
+    if (node.leaf()) return eachTriangle(node, [&](Index t) { node.box.add(triangleBox_[t]); });
+    for (int c : node.child) {
+        if (c < 0) continue;
+        refitBoxes(c);
+        nodes_[n].box.add(nodes_[c].box);
+    }
+}
+
+void BroadPhase::refitCones(int n) {
+    Node& node = nodes_[n];
     if (node.leaf()) {
         Vec3 sum = Vec3::Zero();
-        auto eachTriangle = [&](auto fn) {
-            for (int r = node.r0; r < node.r1; ++r)
-                for (int c = node.c0; c < node.c1; ++c)
-                    for (Index t : cellTriangles_[r * (nx_ - 1) + c]) fn(t);
-        };
-        eachTriangle([&](Index t) {
-            node.box.add(triangleBox_[t]);
-            sum += coneAxis_[t];
-        });
+        eachTriangle(node, [&](Index t) { sum += coneAxis_[t]; });
         node.axis = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
         node.cosHalf = 1;
-        eachTriangle([&](Index t) { node.cosHalf = std::min(node.cosHalf, widest(node.axis, coneAxis_[t], coneCos_[t])); });
+        eachTriangle(node, [&](Index t) { node.cosHalf = std::min(node.cosHalf, widest(node.axis, coneAxis_[t], coneCos_[t])); });
         return;
     }
     bool first = true;
     for (int c : node.child) {
         if (c < 0) continue;
-        refitNode(c);
-        Node& child = nodes_[c];
-        nodes_[n].box.add(child.box);
+        refitCones(c);
+        const Node& child = nodes_[c];
         if (first) nodes_[n].axis = child.axis, nodes_[n].cosHalf = child.cosHalf;
         else mergeCones(nodes_[n].axis, nodes_[n].cosHalf, child.axis, child.cosHalf, nodes_[n].axis, nodes_[n].cosHalf);
         first = false;

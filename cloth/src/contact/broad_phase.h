@@ -40,11 +40,11 @@ class BroadPhase {
 public:
     // The grid's quadtree, its mesh edges and each primitive's cell; redone when the model changes.
     void prepare(const Model& model);
-    // The swept boxes of the step from y0 to y1 (carrier frame), grown by margin, and the normal
-    // cones of its motion with every particle on its straight move.
+    // The swept boxes of the step from y0 to y1 (carrier frame), grown by margin.
     void refit(const Model& model, const Points& y0, const Points& y1, Scalar margin);
-    // The normal cones again, with each particle that `pushed` flags anywhere within margin / 2 of
-    // its straight move (the contact stage's pushes).
+    // The normal cones of the step's motion (after refit, before selfPairs): each particle on its
+    // straight move, or anywhere within margin / 2 of it where `pushed` flags it (the contact
+    // stage's pushes).
     void widen(const Points& y0, const Points& y1, const std::vector<std::uint8_t>& pushed);
     // The self pairs that may touch during the step.
     void selfPairs(std::vector<Pair>& out) const;
@@ -65,7 +65,10 @@ private:
         bool leaf() const { return child[0] < 0; }
     };
     int build(int c0, int c1, int r0, int r1);
-    void refitNode(int n);
+    template <class F>
+    void eachTriangle(const Node& node, F fn) const;
+    void refitBoxes(int n);
+    void refitCones(int n);
     void self(int n, std::vector<Pair>& out) const;
     void cross(int a, int b, std::vector<Pair>& out) const;
     void leafPairs(const Node& a, const Node& b, std::vector<Pair>& out) const;

@@ -309,12 +309,11 @@ void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<st
 // with them more particles to push: repeated until no pair adds one (each round adds at least one
 // particle, so it ends).
 void ContactStage::Work::selfPairs(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned) {
-    bool grew = std::find(pushed.begin(), pushed.end(), 1) != pushed.end();
     for (;;) {
-        if (grew) broad.widen(y0, y1, pushed);
+        broad.widen(y0, y1, pushed);
         broad.selfPairs(pairs);
         filter(thickness);
-        grew = false;
+        bool grew = false;
         for (const auto& q : ids)
             for (Index i : q)
                 if (!pushed[i] && !pinned[i]) pushed[i] = 1, grew = true;
