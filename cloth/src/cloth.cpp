@@ -192,17 +192,20 @@ void Cloth::collide(const std::vector<Collider>& colliders) {
 // Contact over the step just taken, from xStart_ (the carrier at `from`) to the state (at `to`).
 void Cloth::makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h) {
     if (observer_) observer_->stageBegins(ClothStage::Contact);
-    const auto t0 = Clock::now();
     contactReport_ = {};
-    contactOver(from, to, xStart_, state_, h);
-    if (observer_) observer_->stageEnded(ClothStage::Contact, t0, Clock::now());
+    const auto [t0, t1] = contactOver(from, to, xStart_, state_, h);
+    if (observer_) observer_->stageEnded(ClothStage::Contact, t0, t1);  // the span the profile adds up
 }
 
-// The contact stage over one motion, its report added to the step's and its time to the profile's.
-void Cloth::contactOver(const RigidFrame& from, const RigidFrame& to, const Points& xStart, State& state, Scalar h) {
+// The contact stage over one motion, its report added to the step's and its time to the profile's;
+// returns when it began and ended.
+std::pair<Clock::time_point, Clock::time_point> Cloth::contactOver(const RigidFrame& from, const RigidFrame& to,
+                                                                   const Points& xStart, State& state, Scalar h) {
     const auto t0 = Clock::now();
     contactReport_ += contactStage_.apply(model_, pinned_, xStart, state, from, to, solids_, settings_.contact, h);
-    profile_.contact += msBetween(t0, Clock::now());
+    const auto t1 = Clock::now();
+    profile_.contact += msBetween(t0, t1);
+    return {t0, t1};
 }
 
 // Inside the solver's step, on its thread: no stage is told to the observer (it is inside the

@@ -128,9 +128,10 @@ Csv readCsv(const std::string& path) {
     return csv;
 }
 
-SceneConfig headlessVehicle() {
+SceneConfig headlessVehicle() {  // the demo, with contact with the pole (so that contact is traced too)
     SceneConfig s = loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/flag_vehicle.json");
     s.subsystems &= ~(kRender | kRecording | kWindow);
+    s.flag.contact.enabled = true, s.flag.contact.self = false;
     return s;
 }
 
@@ -162,7 +163,7 @@ TEST(RuntimeTrace, TheTraceNestsAsItRanAndEachPhaseSumsToItsProfileColumn) {
 
     const Csv csv = readCsv(o.outDir + "/profile.csv");
     ASSERT_EQ(csv.rows.size(), 40u);
-    for (const char* phase : {"input", "bullet", "air", "cloth_forces", "cloth_solve", "collision", "frame"})
+    for (const char* phase : {"input", "bullet", "air", "cloth_forces", "cloth_solve", "collision", "contact", "frame"})
         EXPECT_NE(std::find(csv.header.begin(), csv.header.end(), phase), csv.header.end()) << phase;
     const auto sums = sumsPerFrame(t);
     for (std::size_t f = 0; f < csv.rows.size(); ++f)

@@ -17,8 +17,8 @@ using Eigen::Vector3d;
 
 namespace {
 
-engine::SceneConfig demoScene() {
-    return engine::loadScene(engine::resolveScenePath("flag_vehicle", FLAGSIM_ASSETS_DIR));
+engine::SceneConfig demoScene() {  // as the study takes it: without contact
+    return study::withContact(engine::loadScene(engine::resolveScenePath("flag_vehicle", FLAGSIM_ASSETS_DIR)), false);
 }
 
 study::Extreme caseNamed(const std::string& name) {

@@ -49,7 +49,8 @@ TEST(FrontBounds, EachBoundAtItsEdge) {
 // multiple of 0.25 s, the configuration's flag runs a quarter second; the RMS distance to the
 // reference over every tick of every horizon, over the flag's width.
 TEST(FrontTrajectoryError, EqualsTheRestartedRunsWrittenOut) {
-    const engine::SceneConfig demo = engine::loadScene(engine::resolveScenePath("flag_vehicle", FLAGSIM_ASSETS_DIR));
+    const engine::SceneConfig demo =
+        study::withContact(engine::loadScene(engine::resolveScenePath("flag_vehicle", FLAGSIM_ASSETS_DIR)), false);
     study::Extreme x;
     for (const study::Extreme& e : study::extremes())
         if (e.name == "stop_10g") x = e;

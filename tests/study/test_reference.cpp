@@ -30,15 +30,14 @@ struct ReferenceRun {
     double h;
 };
 
-engine::SceneConfig scene(const char* name) {
-    return engine::loadScene(engine::resolveScenePath(name, FLAGSIM_ASSETS_DIR));
+engine::SceneConfig scene(const char* name) {  // as the study takes it: without contact
+    return study::withContact(engine::loadScene(engine::resolveScenePath(name, FLAGSIM_ASSETS_DIR)), false);
 }
 
 // The reference of `flag`'s scene (its whole model: the demo's has its constraints) at 17 per side
 // in case x (the short spin unless named), with contact or not.
 ReferenceRun reference(const char* flag, int substeps, const study::Extreme& x = shortSpin(), bool contact = false) {
-    engine::SceneConfig s = study::referenceScene(study::extremeScene(scene(flag), x, 17), substeps);
-    s.flag.contact.enabled = contact;
+    const engine::SceneConfig s = study::referenceScene(study::extremeScene(study::withContact(scene(flag), contact), x, 17), substeps);
     return {study::runExtreme(s, study::extremeMount(scene("flag_vehicle")), x, true), 1.0 / s.physicsHz};
 }
 

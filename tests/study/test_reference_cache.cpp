@@ -30,7 +30,9 @@ study::Extreme path(const char* name, double duration) {
     return {};
 }
 
-engine::SceneConfig demo() { return engine::loadScene(engine::resolveScenePath("flag_vehicle", FLAGSIM_ASSETS_DIR)); }
+engine::SceneConfig demo() {  // as the study takes it: without contact
+    return study::withContact(engine::loadScene(engine::resolveScenePath("flag_vehicle", FLAGSIM_ASSETS_DIR)), false);
+}
 
 // A small reference: the demo's flag at 9 per side, 6 substeps a tick.
 struct Case {

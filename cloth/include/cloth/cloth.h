@@ -28,6 +28,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cloth/air.h"
@@ -143,7 +144,8 @@ private:
                      const std::vector<Collider>& colliders);
     bool stepOnce(Scalar h, const std::vector<Collider>& colliders, const RigidFrame& from, const RigidFrame& to);
     void makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h);
-    void contactOver(const RigidFrame& from, const RigidFrame& to, const Points& xStart, State& state, Scalar h);
+    std::pair<ClothObserver::Clock::time_point, ClothObserver::Clock::time_point> contactOver(
+        const RigidFrame& from, const RigidFrame& to, const Points& xStart, State& state, Scalar h);
     // The contact stage at the solver's own substeps, the carrier between the step's two poses.
     struct SubstepHook final : SubstepContact {
         Cloth* cloth = nullptr;

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "cloth/crossings.h"
 #include "engine/flag/flag.h"
 #include "engine/profile/profiler.h"
 #include "engine/scene/scene.h"
@@ -90,6 +91,9 @@ public:
     Flag* mutableFlag();
     const std::vector<std::uint8_t>& pixels() const; // last rendered frame (RGBA, top-down)
     double maxPinError() const;                      // over every tick so far
+    // The most of each kind of the flag's crossings (cloth/crossings.h) in one count so far (after
+    // each frame's ticks, or every tick); none without the collision subsystem.
+    cloth::CrossingCounts mostCrossings() const;
     Eigen::Vector3d poleTop() const;                 // world space
     Eigen::Vector3d carrierVelocity() const;         // world space
 

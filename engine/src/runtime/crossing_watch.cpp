@@ -23,6 +23,9 @@ void CrossingWatch::count(const Flag& flag, const RigidFrame& carrier, const clo
         cloth::countCrossings(flag.model(), flag.state().x, scene, sleeve_.empty() ? nullptr : &sleeve_);
     tally_.last = c.total();
     if (tally_.last > tally_.max) tally_.max = tally_.last, tally_.worst = c;
+    cloth::CrossingCounts& m = tally_.most;
+    m.poleEdges = std::max(m.poleEdges, c.poleEdges), m.selfEdges = std::max(m.selfEdges, c.selfEdges);
+    m.bodyEdges = std::max(m.bodyEdges, c.bodyEdges), m.groundParticles = std::max(m.groundParticles, c.groundParticles);
     ++tally_.checks;
     tally_.withAny += tally_.last > 0;
 }

@@ -17,6 +17,7 @@ struct CrossingTally {
     long long checks = 0;      // counts made
     long long withAny = 0;     // counts that found any
     cloth::CrossingCounts worst;  // the count with the most, by kind
+    cloth::CrossingCounts most;   // the most of each kind in one count (each from its own count)
 };
 
 class CrossingWatch {

@@ -177,6 +177,9 @@ const Profiler& Runtime::profiler() const { return impl_->profiler; }
 const Flag* Runtime::flag() const { return impl_->flag.get(); }
 Flag* Runtime::mutableFlag() { return impl_->flag.get(); }
 double Runtime::maxPinError() const { return impl_->maxPinError; }
+cloth::CrossingCounts Runtime::mostCrossings() const {
+    return impl_->crossings ? impl_->crossings->tally().most : cloth::CrossingCounts{};
+}
 const std::vector<std::uint8_t>& Runtime::pixels() const {
     static const std::vector<std::uint8_t> none;
     return impl_->view ? impl_->view->pixels() : none;

@@ -107,8 +107,7 @@ int planFront(const StudyOptions& o, FrontWork& w) {
         std::fprintf(stderr, "cloth_study: the stiff flag's scene: %s\n", why.c_str());
         return 1;
     }
-    if (o.contact)
-        for (engine::SceneConfig* s : {&w.flags.demo, &w.flags.stiff}) s->flag.contact.enabled = true;
+    for (engine::SceneConfig* s : {&w.flags.demo, &w.flags.stiff}) *s = withContact(*s, o.contact);
     w.configs = configurations(o, &why);
     if (w.configs.empty()) return usageError(why);
     std::string unknown;

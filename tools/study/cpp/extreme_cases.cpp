@@ -83,6 +83,12 @@ std::vector<Extreme> extremes() {
     return e;
 }
 
+engine::SceneConfig withContact(engine::SceneConfig scene, bool contact) {
+    scene.flag.contact = cloth::ContactSettings{};
+    scene.flag.contact.enabled = contact;
+    return scene;
+}
+
 engine::SceneConfig extremeScene(const engine::SceneConfig& demo, const Extreme& x, int size) {
     engine::SceneConfig s = demo;
     s.flag.ny = int(std::lround(1 + (size - 1) * double(demo.flag.ny - 1) / (demo.flag.nx - 1)));

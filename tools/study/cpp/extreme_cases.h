@@ -44,6 +44,10 @@ std::vector<Extreme> extremes();
 Extreme teleport(double metres);
 std::string teleportName(double metres);
 
+// The study's flag from a scene: contact only when asked, and then all of it (the pole, the body
+// and the flag itself), whatever contact the scene ships with.
+engine::SceneConfig withContact(engine::SceneConfig scene, bool contact);
+
 // The demo's flag in case x at another resolution: same size, mass and stiffness, same aspect;
 // the case's mass scale and wind.
 engine::SceneConfig extremeScene(const engine::SceneConfig& demo, const Extreme& x, int size);
