@@ -191,16 +191,6 @@ void BroadPhase::refitCones(int n) {
     }
 }
 
-// Two cells' primitives can form a pair only if the cells' boxes (each holding its triangles, and
-// so the vertices and edges it owns) overlap and the cells are more than one cell apart: within one,
-// every corner of one lies within kExcludedCells of every corner of the other.
-static_assert(kExcludedCells >= 2, "mayMeet skips cells within one of each other");
-bool BroadPhase::mayMeet(int a, int b) const {
-    const int w = nx_ - 1;
-    if (std::abs(a / w - b / w) <= 1 && std::abs(a % w - b % w) <= 1) return false;
-    return cellBox_[a].overlaps(cellBox_[b]);
-}
-
 bool BroadPhase::far(Index u, Index v) const {
     return std::abs(row_[u] - row_[v]) > kExcludedCells || std::abs(col_[u] - col_[v]) > kExcludedCells;
 }
@@ -249,10 +239,20 @@ void BroadPhase::cross(int a, int b, std::vector<Pair>& out) const {
 }
 
 void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out) const {
+    struct Cell {
+        int index, k, r, c;  // the cell, its place in its leaf, its row and column
+    };
     auto cells = [&](const Node& n, auto fn) {
         int k = 0;
         for (int r = n.r0; r < n.r1; ++r)
-            for (int c = n.c0; c < n.c1; ++c) fn(r * (nx_ - 1) + c, k++);
+            for (int c = n.c0; c < n.c1; ++c) fn(Cell{r * (nx_ - 1) + c, k++, r, c});
+    };
+    // Two cells' primitives can form a pair only if the cells' boxes (each holding its triangles, and
+    // so the vertices and edges it owns) overlap and the cells are more than one cell apart: within
+    // one, every corner of one lies within kExcludedCells of every corner of the other.
+    static_assert(kExcludedCells >= 2, "cells within one of each other are skipped");
+    auto mayMeet = [&](const Cell& a, const Cell& b) {
+        return (std::abs(a.r - b.r) > 1 || std::abs(a.c - b.c) > 1) && cellBox_[a.index].overlaps(cellBox_[b.index]);
     };
     // A primitive whose box misses the other node's box meets none of its primitives (their boxes
     // lie in it): flagged once per node pair and skipped, which keeps the pairs and their order.
@@ -260,34 +260,38 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
     auto flag = [&](const Node& n, const std::vector<std::vector<Index>>& lists, const std::vector<Box>& boxes,
                     const Box& other) {
         Flags f{};
-        cells(n, [&](int cell, int k) {
-            for (std::size_t i = 0; i < lists[cell].size() && i < 8; ++i) f[k][i] = boxes[lists[cell][i]].overlaps(other);
+        cells(n, [&](const Cell& cell) {
+            const auto& list = lists[cell.index];
+            for (std::size_t i = 0; i < list.size() && i < 8; ++i) f[cell.k][i] = boxes[list[i]].overlaps(other);
         });
         return f;
     };
     auto vertexTriangles = [&](const Node& V, const Node& T) {
         const Flags in = flag(V, cellVertices_, vertexBox_, T.box);
-        cells(V, [&](int cv, int kv) {
-            cells(T, [&](int ct, int) {
+        cells(V, [&](const Cell& cv) {
+            cells(T, [&](const Cell& ct) {
                 if (!mayMeet(cv, ct)) return;
-                for (std::size_t i = 0; i < cellVertices_[cv].size(); ++i) {
-                    const Index v = cellVertices_[cv][i];
-                    if (i < 8 && !in[kv][i]) continue;
-                    for (Index t : cellTriangles_[ct])
+                const auto& vertices = cellVertices_[cv.index];
+                for (std::size_t i = 0; i < vertices.size(); ++i) {
+                    const Index v = vertices[i];
+                    if (i < 8 && !in[cv.k][i]) continue;
+                    for (Index t : cellTriangles_[ct.index])
                         if (vertexBox_[v].overlaps(triangleBox_[t]) && farTriangle(v, t))
                             out.push_back({Pair::Kind::VertexTriangle, v, t});
                 }
             });
         });
     };
-    vertexTriangles(A, B), vertexTriangles(B, A);    const Flags inB = flag(A, cellEdges_, edgeBox_, B.box);
-    cells(A, [&](int ca, int ka) {
-        cells(B, [&](int cb, int) {
+    vertexTriangles(A, B), vertexTriangles(B, A);
+    const Flags inB = flag(A, cellEdges_, edgeBox_, B.box);
+    cells(A, [&](const Cell& ca) {
+        cells(B, [&](const Cell& cb) {
             if (!mayMeet(ca, cb)) return;
-            for (std::size_t i = 0; i < cellEdges_[ca].size(); ++i) {
-                const Index e = cellEdges_[ca][i];
-                if (i < 8 && !inB[ka][i]) continue;
-                for (Index f : cellEdges_[cb])
+            const auto& edges = cellEdges_[ca.index];
+            for (std::size_t i = 0; i < edges.size(); ++i) {
+                const Index e = edges[i];
+                if (i < 8 && !inB[ca.k][i]) continue;
+                for (Index f : cellEdges_[cb.index])
                     if (edgeBox_[e].overlaps(edgeBox_[f]) && farEdges(e, f)) out.push_back({Pair::Kind::EdgeEdge, e, f});
             }
         });

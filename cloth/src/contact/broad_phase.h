@@ -72,7 +72,6 @@ private:
     void self(int n, std::vector<Pair>& out) const;
     void cross(int a, int b, std::vector<Pair>& out) const;
     void leafPairs(const Node& a, const Node& b, std::vector<Pair>& out) const;
-    bool mayMeet(int cellA, int cellB) const;
     bool far(Index u, Index v) const;  // more than kExcludedCells cells apart
     bool farTriangle(Index v, Index t) const;
     bool farEdges(Index e, Index f) const;
