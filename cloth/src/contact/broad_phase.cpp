@@ -134,15 +134,16 @@ void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, S
     cellBox_.assign(cellTriangles_.size(), Box{});
     for (std::size_t c = 0; c < cellTriangles_.size(); ++c)
         for (Index t : cellTriangles_[c]) cellBox_[c].add(triangleBox_[t]);
+    halfMove_.resize(n);
+    for (Index i = 0; i < n; ++i) halfMove_[i] = 0.5 * (y1.col(i) - y0.col(i)).norm();
     margin_ = margin;
     refitBoxes(0);
 }
 
 void BroadPhase::widen(const Points& y0, const Points& y1, const std::vector<std::uint8_t>& pushed) {
-    const Index n = Index(y0.cols());
+    const Index n = Index(halfMove_.size());
     reach_.resize(n);
-    for (Index i = 0; i < n; ++i)
-        reach_[i] = 0.5 * (y1.col(i) - y0.col(i)).norm() + (pushed.empty() || !pushed[i] ? 0 : margin_ / 2);
+    for (Index i = 0; i < n; ++i) reach_[i] = halfMove_[i] + (pushed.empty() || !pushed[i] ? 0 : margin_ / 2);
     coneAxis_.resize(triangles_.size()), coneCos_.resize(triangles_.size());
     for (std::size_t t = 0; t < triangles_.size(); ++t) {
         const Cone c = motionCone(y0, y1, reach_, triangles_[t]);

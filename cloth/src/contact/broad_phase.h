@@ -86,6 +86,7 @@ private:
     std::vector<std::vector<Index>> cellTriangles_, cellVertices_, cellEdges_;
     std::vector<Box> vertexBox_, edgeBox_, triangleBox_, cellBox_;
     Scalar margin_ = 0;
+    std::vector<Scalar> halfMove_;   // half each particle's straight move over the step (refit)
     std::vector<Scalar> reach_;      // each particle's distance from its move's midpoint, at most
     std::vector<Vec3> coneAxis_;     // each triangle's normal cone over the step
     std::vector<Scalar> coneCos_;
