@@ -23,8 +23,8 @@ int main(int argc, char** argv) {
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.set_version_flag("--version", std::string("flagsim ") + FLAGSIM_VERSION);
     app.add_option("--scene", scene,
-                   "scene name (flag_vehicle, flag_vehicle_hd, flag_vehicle_stiff, flag_vehicle_true_motion, flag_vehicle_contact, "
-                   "hanging_flag, bench_cloth, vehicle_only) or a scene file path");
+                   "scene name (flag_vehicle, flag_vehicle_hd, flag_vehicle_stiff, flag_vehicle_true_motion, "
+                   "flag_vehicle_no_contact, hanging_flag, bench_cloth, vehicle_only) or a scene file path");
     app.add_option("--script", o.scriptPath, "input script (JSON); default: the scene's");
     app.add_option("--out", o.outDir,
                    "record into DIR: frames/frame_NNNNNN.png, profile.csv, summary.json");

@@ -66,8 +66,9 @@ def main():
                      "Copies of the demo's scenes without rendering (the 129x129 flag on two threads), of the "
                      "true-motion scene (`flag_vehicle_true_motion`: the demo's flag on `small_steps` paced at 1 cm "
                      "per substep) and of the stiff scene (`flag_vehicle_stiff`: its true motion, `small_steps` at 240 Hz, on one and two "
-                     "threads; in the full run also at 65x65, and at 129x129 on two threads) and of the demo with contact "
-                     "(`flag_vehicle_contact`), on the demo's drive: air, cloth forces, solve, collision and contact per "
+                     "threads; in the full run also at 65x65, and at 129x129 on two threads); `33x33` is the demo's flag "
+                     "without contact (`flag_vehicle_no_contact`) and `33x33_contact` the main demo (`flag_vehicle`, "
+                     "with contact), on the demo's drive: air, cloth forces, solve, collision and contact per "
                      "frame from `profile.csv`, against 1 ms (33x33), 2 ms (33x33 with contact), 4 ms (65x65) and 16 ms "
                      "(129x129, the true-motion and the stiff scene). `x demo`: the row's mean and median over the "
                      "demo's at its size, in this run.")

@@ -49,12 +49,17 @@ ClothDesc flagOnPole(const FlagDesc& flag, const Pole& pole, Scalar thickness) {
     return d;
 }
 
+std::pair<Vec3, Vec3> poleAxis(const Pole& pole) {
+    return {pole.base, pole.base + Vec3(0, pole.height - pole.radius, 0)};
+}
+
 Collider poleSolid(const Pole& pole) {
+    const auto [a, b] = poleAxis(pole);
     Collider c;
     c.shape = Collider::Shape::Capsule;
     c.axis = Vec3::UnitY();
-    c.center = pole.base + Vec3(0, pole.height / 2, 0);
-    c.halfExtents = Vec3(pole.height / 2, 0, 0);
+    c.center = 0.5 * (a + b);
+    c.halfExtents = Vec3(0.5 * (b - a).norm(), 0, 0);
     c.radius = pole.radius;
     return c;
 }

@@ -29,7 +29,7 @@ std::vector<std::string> expectedPhases(unsigned s, bool contact) {
 }  // namespace
 
 TEST(SceneSubsystems, EveryShippedSceneProfilesExactlyItsDeclaredPhases) {
-    for (const char* name : {"flag_vehicle", "flag_vehicle_stiff", "flag_vehicle_true_motion", "flag_vehicle_contact", "hanging_flag",
+    for (const char* name : {"flag_vehicle", "flag_vehicle_stiff", "flag_vehicle_true_motion", "flag_vehicle_no_contact", "hanging_flag",
                              "bench_cloth", "vehicle_only"}) {
         SceneConfig s = loadScene(std::string(FLAGSIM_ASSETS_DIR) + "/scenes/" + name + ".json");
         s.render.width = 160;

@@ -14,11 +14,13 @@
 //        corrections along the pair's normal, as position-based dynamics does), and edges are
 //        kept `thickness` off a capsule's surface;
 //      - displacement bounds (the guarantee, after Offset Geometric Contact, Chen et al. 2025):
-//        each particle moves at most 0.9 times half its distance to any other primitive it may meet
-//        (0.9 times the whole distance to a solid): two primitives each moving less than half
-//        the gap between them cannot meet, so no edge crosses a triangle or a solid during the
-//        sub-interval. An edge from a pinned particle keeps its free end out of the shadow the
-//        pole casts from the pinned one (in the pole's cross-section).
+//        each particle moves at most 0.9 times half its distance to any other part of the cloth
+//        it may meet (0.9 times the whole distance to a box): two primitives each moving less than
+//        half the gap between them cannot meet, so no edge crosses a triangle or a box during the
+//        sub-interval. Near a capsule the bound has a direction: a particle approaches the plane
+//        through the capsule's closest point by at most 0.9 times its height over the capsule's
+//        surface, and slides along it freely (the capsule lies behind that plane, so nothing
+//        on the plane's side reaches it; a bound on the whole move held pressed particles still).
 //   3. the positions back in the world, each particle's velocity changed by its correction / h.
 // The state is never left crossed if it started uncrossed. Pinned particles are never moved.
 
@@ -50,8 +52,12 @@ struct ContactReport {
     int selfPairs = 0;     // self pairs from the broad phase
     int near = 0;          // vertices and edges near a solid
     int limited = 0;       // particle moves cut short by their bounds, summed over sub-intervals
+    // Applications whose self-contact was left out: more self pairs than 128 per particle, which
+    // only a cloth already blown apart has (an unstable solver); the solids were still kept out.
+    int overloaded = 0;
     ContactReport& operator+=(const ContactReport& r) {  // two applications' work together
         subintervals += r.subintervals, selfPairs += r.selfPairs, near += r.near, limited += r.limited;
+        overloaded += r.overloaded;
         return *this;
     }
 };

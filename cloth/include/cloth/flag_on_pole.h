@@ -3,6 +3,8 @@
 // carrier (a vehicle, or the world). Everything here is in the carrier's frame, the pole along
 // its +y axis; the flag trails from the pole along `trailing`.
 
+#include <utility>
+
 #include "cloth/cloth.h"
 
 namespace cloth {
@@ -39,10 +41,17 @@ Model flagModel(const FlagDesc& flag, const Pole& pole, Scalar thickness);
 // (contact.h).
 ClothDesc flagOnPole(const FlagDesc& flag, const Pole& pole, Scalar thickness);
 
-// The pole's solid in its carrier's frame: a capsule of the pole's radius along its axis.
+// The pole's solid, in its carrier's frame: a capsule of the pole's radius whose rounded top is the
+// pole's top, its axis segment from the base to the top less the radius (poleAxis gives its
+// ends). Contact keeps the cloth out of it and the crossing checker judges edges against it. The
+// flag's top pins, on the collision shell at the pole's top, lie outside it; a capsule over the
+// whole pole would stand a radius above its top, and contact pushed the flag's top row onto that
+// cap and over it, 17 cm above the pole at rest.
+std::pair<Vec3, Vec3> poleAxis(const Pole& pole);
 Collider poleSolid(const Pole& pole);
 
-// The pole as a collider: its capsule in world space, for the carrier's pose.
+// The pole as a collider for the particle collisions, in world space for the carrier's pose: a
+// capsule along the whole pole.
 Collider poleCollider(const Pole& pole, const RigidFrame& carrier);
 
 }  // namespace cloth

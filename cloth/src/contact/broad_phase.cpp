@@ -206,23 +206,23 @@ bool BroadPhase::farEdges(Index e, Index f) const {
     return far(a[0], b[0]) && far(a[0], b[1]) && far(a[1], b[0]) && far(a[1], b[1]);
 }
 
-void BroadPhase::selfPairs(std::vector<Pair>& out) const {
+void BroadPhase::selfPairs(std::vector<Pair>& out, std::size_t most) const {
     out.clear();
-    if (!nodes_.empty()) self(0, out);
+    if (!nodes_.empty()) self(0, out, most);
 }
 
-void BroadPhase::self(int n, std::vector<Pair>& out) const {
+void BroadPhase::self(int n, std::vector<Pair>& out, std::size_t most) const {
     const Node& node = nodes_[n];
     if (node.cosHalf > kFlat || node.leaf()) return;  // flat; a leaf's pairs are all within the springs' reach
     for (int i = 0; i < 4 && node.child[i] >= 0; ++i) {
-        self(node.child[i], out);
-        for (int j = i + 1; j < 4 && node.child[j] >= 0; ++j) cross(node.child[i], node.child[j], out);
+        self(node.child[i], out, most);
+        for (int j = i + 1; j < 4 && node.child[j] >= 0; ++j) cross(node.child[i], node.child[j], out, most);
     }
 }
 
-void BroadPhase::cross(int a, int b, std::vector<Pair>& out) const {
+void BroadPhase::cross(int a, int b, std::vector<Pair>& out, std::size_t most) const {
     const Node &A = nodes_[a], &B = nodes_[b];
-    if (!A.box.overlaps(B.box)) return;
+    if (out.size() > most || !A.box.overlaps(B.box)) return;
     const int span = std::max(std::max(A.c1, B.c1) - std::min(A.c0, B.c0), std::max(A.r1, B.r1) - std::min(A.r0, B.r0));
     if (span <= kExcludedCells) return;  // every pair within the springs' reach
     const bool adjacent = A.c0 <= B.c1 && B.c0 <= A.c1 && A.r0 <= B.r1 && B.r0 <= A.r1;
@@ -236,7 +236,7 @@ void BroadPhase::cross(int a, int b, std::vector<Pair>& out) const {
     const bool splitA = !A.leaf() && (B.leaf() || (A.c1 - A.c0) * (A.r1 - A.r0) >= (B.c1 - B.c0) * (B.r1 - B.r0));
     const Node& big = splitA ? A : B;
     for (int c : big.child)
-        if (c >= 0) cross(splitA ? c : a, splitA ? b : c, out);
+        if (c >= 0) cross(splitA ? c : a, splitA ? b : c, out, most);
 }
 
 void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out) const {

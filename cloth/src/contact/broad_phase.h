@@ -46,8 +46,8 @@ public:
     // straight move, or anywhere within margin / 2 of it where `pushed` flags it (the contact
     // stage's pushes).
     void widen(const Points& y0, const Points& y1, const std::vector<std::uint8_t>& pushed);
-    // The self pairs that may touch during the step.
-    void selfPairs(std::vector<Pair>& out) const;
+    // The self pairs that may touch during the step; past `most` the search stops (out holds more).
+    void selfPairs(std::vector<Pair>& out, std::size_t most) const;
     // The free vertices and mesh edges whose swept boxes reach `box`.
     void near(const Box& box, const std::vector<std::uint8_t>& pinned, std::vector<Index>& vertices,
               std::vector<Index>& edges) const;
@@ -69,8 +69,8 @@ private:
     void eachTriangle(const Node& node, F fn) const;
     void refitBoxes(int n);
     void refitCones(int n);
-    void self(int n, std::vector<Pair>& out) const;
-    void cross(int a, int b, std::vector<Pair>& out) const;
+    void self(int n, std::vector<Pair>& out, std::size_t most) const;
+    void cross(int a, int b, std::vector<Pair>& out, std::size_t most) const;
     void leafPairs(const Node& a, const Node& b, std::vector<Pair>& out) const;
     bool far(Index u, Index v) const;  // more than kExcludedCells cells apart
     bool farTriangle(Index v, Index t) const;

@@ -22,6 +22,10 @@ constexpr Scalar kSolidShare = 0.9;   // of a gap to a solid, which does not mov
 // (a rounding of 1e-16 m) flips into a crossing.
 constexpr Scalar kFloor = 0.1;
 constexpr int kMaxSubintervals = 64;  // beyond it the sub-intervals' moves grow: the bounds still hold
+// Self pairs per particle beyond which a step's self-contact is left out (ContactReport::overloaded):
+// only a cloth already blown apart has them (an unstable solver: 765 per particle, seconds a tick);
+// the demo's flag folded in the hard brake has 33.
+constexpr std::size_t kMaxPairsPerParticle = 128;
 // m: a pair is left unmeasured only when its lower bound clears what it is compared with by this
 // much, far above the rounding of the bound (1e-16 m), so that its exact distance would have
 // changed nothing (contact.h: the same moves, bit for bit).
@@ -51,13 +55,6 @@ contact::Box boxOf(const Collider& c, Scalar margin) {
 std::pair<Vec3, Vec3> axisOf(const Collider& c) {
     const Vec3 half = std::abs(c.halfExtents.x()) * c.axis;
     return {c.center - half, c.center + half};
-}
-
-// In a capsule's cross-section: a point's 2D coordinates about the axis.
-Eigen::Vector2d across(const Collider& c, const Vec3& p) {
-    const Vec3 u = c.axis.unitOrthogonal(), w = c.axis.cross(u);
-    const Vec3 r = p - c.center;
-    return {r.dot(u), r.dot(w)};
 }
 
 }  // namespace
@@ -104,6 +101,22 @@ struct ContactStage::Work {
     }
     Scalar distanceNow(std::size_t k) const;
     void limit(Index i, Scalar b) { bound[i] = std::min(bound[i], std::max(Scalar(0), b)); }
+    // A half-space a particle's move m keeps to: m . n >= -allow (allow >= 0). A capsule lies
+    // behind the plane through its closest point to a primitive, so a move that keeps to it keeps
+    // the primitive out, wherever it slides along the plane.
+    struct Plane {
+        Vec3 n;
+        Scalar allow;
+        int next;  // the particle's next plane, or -1
+    };
+    std::vector<Plane> planes;
+    std::vector<int> firstPlane;  // each particle's first plane, or -1
+    void keepTo(Index i, const Vec3& n, Scalar allow) {
+        planes.push_back({n, std::max(Scalar(0), allow), firstPlane[i]});
+        firstPlane[i] = int(planes.size()) - 1;
+    }
+    void capsuleBounds(const Near& n);
+    bool bounded(Index i, Vec3& move) const;
     void filter(Scalar thickness);
     void selfBounds();
     void solidBounds();
@@ -112,7 +125,7 @@ struct ContactStage::Work {
     void gather(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned, const Points& xStart, const State& state,
                 const RigidFrame& from, const RigidFrame& to, const std::vector<Collider>& solids,
                 const ContactSettings& settings, ContactReport& report);
-    void selfPairs(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned);
+    bool selfPairs(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned);
     Scalar markActive(const std::vector<std::uint8_t>& pinned);
     void advance(Scalar f, const std::vector<std::uint8_t>& pinned, ContactReport& report);
 };
@@ -189,31 +202,74 @@ void ContactStage::Work::selfBounds() {
     }
 }
 
-// Bounds from the solids: a free particle under kSolidShare of its gap to the solid, each end of
-// an edge under kSolidShare of the edge's gap; an edge from a pinned particle (which stays where it
-// is) keeps its free end out of the pinned one's shadow of a capsule.
+// Bounds from the solids: near a capsule, a half-space per particle (capsuleBounds); near a box, a
+// free particle under kSolidShare of its gap to the box, each end of an edge under kSolidShare of
+// the edge's gap.
 void ContactStage::Work::solidBounds() {
     for (const Near& n : near) {
         const Collider& c = *n.solid;
-        const bool capsule = c.shape == Collider::Shape::Capsule;
-        const auto [a, b] = axisOf(c);
-        for (Index i : n.vertices) {
-            const Scalar d = capsule ? contact::closestSegments(y.col(i), y.col(i), a, b).distance - c.radius
-                                     : contact::pointBoxDistance(y.col(i), c.center, c.rotation, c.halfExtents);
-            limit(i, kSolidShare * (d - floor()));
+        if (c.shape == Collider::Shape::Capsule) {
+            capsuleBounds(n);
+            continue;
         }
+        for (Index i : n.vertices)
+            limit(i, kSolidShare * (contact::pointBoxDistance(y.col(i), c.center, c.rotation, c.halfExtents) - floor()));
         for (Index e : n.edges) {
             const Index i = (*edges)[e][0], j = (*edges)[e][1];
-            if (capsule && (invMass[i] == 0) != (invMass[j] == 0)) {
-                const Index pin = invMass[i] == 0 ? i : j, free = pin == i ? j : i;
-                limit(free, kSolidShare * (contact::shadowDistance(across(c, y.col(pin)), across(c, y.col(free)), c.radius) - floor()));
-                continue;
-            }
-            const Scalar d = capsule ? contact::closestSegments(y.col(i), y.col(j), a, b).distance - c.radius
-                                     : contact::segmentBoxDistance(y.col(i), y.col(j), c.center, c.rotation, c.halfExtents);
+            const Scalar d = contact::segmentBoxDistance(y.col(i), y.col(j), c.center, c.rotation, c.halfExtents);
             limit(i, kSolidShare * (d - floor())), limit(j, kSolidShare * (d - floor()));
         }
     }
+}
+
+// Near a capsule: each free vertex and each end of an edge keeps to the plane through the closest
+// point of the capsule's axis, at most kSolidShare of its height over the capsule's offset surface
+// (radius + floor) closer to it. The capsule lies within its radius of that plane's back, so a
+// straight move of the ends that keeps to it keeps the whole edge out, and the particle slides
+// freely along the capsule (a bound on the length of its move would hold a pressed particle still).
+// A pinned end stays where it is, on the plane's side: an edge from a pin swings round the capsule
+// only as far as the plane of each sub-interval lets its free end.
+void ContactStage::Work::capsuleBounds(const Near& n) {
+    const Collider& c = *n.solid;
+    const auto [a, b] = axisOf(c);
+    auto keepOff = [&](Index i, const Vec3& normal, const Vec3& q) {
+        if (invMass[i] == 0) return;
+        keepTo(i, normal, kSolidShare * ((y.col(i) - q).dot(normal) - c.radius - floor()));
+    };
+    for (Index i : n.vertices) {
+        const auto at = contact::closestSegments(y.col(i), y.col(i), a, b);
+        const Vec3 q = (1 - at.t) * a + at.t * b;
+        if (at.distance <= 0) limit(i, 0);
+        else keepOff(i, (y.col(i) - q) / at.distance, q);
+    }
+    for (Index e : n.edges) {
+        const Index i = (*edges)[e][0], j = (*edges)[e][1];
+        const auto at = contact::closestSegments(y.col(i), y.col(j), a, b);
+        const Vec3 p = (1 - at.s) * y.col(i) + at.s * y.col(j), q = (1 - at.t) * a + at.t * b;
+        if (at.distance <= 0) {
+            limit(i, 0), limit(j, 0);
+            continue;
+        }
+        const Vec3 normal = (p - q) / at.distance;
+        keepOff(i, normal, q), keepOff(j, normal, q);
+    }
+}
+
+// Particle i's move cut to its half-spaces and its bound: each plane it leaves is met by taking off
+// the move's excess across it; if that left another plane, the move is shortened until every plane
+// holds (a shorter move in the same direction keeps to every plane the longer one kept to, as each
+// allows the particle where it is); then the move is shortened to the bound. True if cut.
+bool ContactStage::Work::bounded(Index i, Vec3& move) const {
+    bool cut = false;
+    for (int k = firstPlane[i]; k >= 0; k = planes[k].next)
+        if (const Scalar over = -planes[k].allow - move.dot(planes[k].n); over > 0) move += over * planes[k].n, cut = true;
+    Scalar scale = 1;
+    for (int k = firstPlane[i]; k >= 0; k = planes[k].next)
+        if (const Scalar m = move.dot(planes[k].n); m < -planes[k].allow) scale = std::min(scale, planes[k].allow / -m);
+    const Scalar l = scale * move.norm();
+    if (l > bound[i]) scale *= bound[i] / l;
+    if (scale < 1) move *= scale, cut = true;
+    return cut;
 }
 
 // Moves the targets of n particles (weights w_k on the primitive's side, signs folded in) so that
@@ -300,24 +356,29 @@ void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<st
         if (!nr.vertices.empty() || !nr.edges.empty()) near.push_back(std::move(nr));
     }
     pairs.clear(), ids.clear(), gap.clear();
-    if (settings.self) selfPairs(broad, pinned);
+    if (settings.self && !selfPairs(broad, pinned)) {
+        pairs.clear(), ids.clear(), gap.clear(), snap.clear();
+        report.overloaded = 1;
+    }
     report.selfPairs = int(pairs.size());
 }
 
 // The self pairs, with the normal cones widened where contact may push a particle off its straight
 // move: a particle in a pair or near a solid. Widening can open a flat node and give more pairs, and
 // with them more particles to push: repeated until no pair adds one (each round adds at least one
-// particle, so it ends).
-void ContactStage::Work::selfPairs(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned) {
+// particle, so it ends). False, with no pairs, past kMaxPairsPerParticle.
+bool ContactStage::Work::selfPairs(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned) {
+    const std::size_t most = kMaxPairsPerParticle * std::size_t(model->particleCount());
     for (;;) {
         broad.widen(y0, y1, pushed);
-        broad.selfPairs(pairs);
+        broad.selfPairs(pairs, most);
+        if (pairs.size() > most) return false;
         filter(thickness);
         bool grew = false;
         for (const auto& q : ids)
             for (Index i : q)
                 if (!pushed[i] && !pinned[i]) pushed[i] = 1, grew = true;
-        if (!grew) return;
+        if (!grew) return true;
     }
 }
 
@@ -372,7 +433,9 @@ void ContactStage::Work::advance(Scalar f, const std::vector<std::uint8_t>& pinn
     for (Index i : touched) {
         len[i] = active[i] ? (target.col(i) - y.col(i)).norm() : 0;
         bound[i] = std::numeric_limits<Scalar>::infinity();
+        firstPlane[i] = -1;
     }
+    planes.clear();
     selfBounds();
     solidBounds();
     for (Index i : touched) {
@@ -382,7 +445,7 @@ void ContactStage::Work::advance(Scalar f, const std::vector<std::uint8_t>& pinn
             continue;
         }
         Vec3 move = target.col(i) - y.col(i);
-        if (len[i] > bound[i]) move *= bound[i] / len[i], ++report.limited;
+        if (bounded(i, move)) ++report.limited;
         travel[i] += move.norm();
         y.col(i) += move;
     }
@@ -402,6 +465,7 @@ ContactReport ContactStage::apply(const Model& model, const std::vector<std::uin
     w.target.resize(3, model.particleCount());
     w.push.resize(3, model.particleCount());
     w.bound.assign(model.particleCount(), std::numeric_limits<Scalar>::infinity());
+    w.firstPlane.assign(model.particleCount(), -1);
     w.travel.assign(model.particleCount(), 0);
     w.need.resize(model.particleCount()), w.len.resize(model.particleCount());
     for (int k = 1; k <= report.subintervals; ++k) w.advance(Scalar(k) / report.subintervals, pinned, report);

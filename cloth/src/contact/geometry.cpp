@@ -78,30 +78,4 @@ Scalar segmentBoxDistance(const Vec3& p0, const Vec3& p1, const Vec3& center, co
     return std::max(Scalar(0), best - (hi - lo) * (p1 - p0).norm());
 }
 
-namespace {
-
-// The distance from q to the ray from o along unit direction u.
-Scalar rayDistance(const Eigen::Vector2d& q, const Eigen::Vector2d& o, const Eigen::Vector2d& u) {
-    const Scalar t = std::max(Scalar(0), (q - o).dot(u));
-    return (q - (o + t * u)).norm();
-}
-
-}  // namespace
-
-Scalar shadowDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& q, Scalar r) {
-    const Scalar toDisk = q.norm() - r;
-    // q in the shadow: the segment p-q meets the disk (its closest point to the axis within r).
-    const Eigen::Vector2d d = q - p;
-    const Scalar along = d.squaredNorm() > 0 ? std::clamp(-p.dot(d) / d.squaredNorm(), Scalar(0), Scalar(1)) : 0;
-    if ((p + along * d).norm() < r) return 0;
-    const Scalar rho = p.norm();
-    if (rho <= r) return std::min(toDisk, Scalar(0));  // p on or in the disk: every direction is shadowed
-    // The tangent points seen from p: at angle +-acos(r / rho) from p's direction, on the circle.
-    const Eigen::Vector2d u = p / rho, w(-u.y(), u.x());
-    const Scalar c = r / rho, s = std::sqrt(std::max(Scalar(0), 1 - c * c));
-    const Eigen::Vector2d t1 = r * (c * u + s * w), t2 = r * (c * u - s * w);
-    const Scalar along1 = rayDistance(q, t1, (t1 - p).normalized()), along2 = rayDistance(q, t2, (t2 - p).normalized());
-    return std::min({toDisk, along1, along2});
-}
-
 }  // namespace cloth::contact

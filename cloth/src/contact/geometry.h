@@ -1,8 +1,7 @@
 #pragma once
 // The distances the contact stage (contact.h) bounds its moves by: closest points between segments,
-// of a point to a triangle, of a point or a segment to a capsule's axis or to a box, and in the
-// pole's cross-section the distance to the shadow a disk casts from a fixed point. Plain functions
-// of their arguments.
+// of a point to a triangle, of a point or a segment to a box. Plain functions of their
+// arguments.
 
 #include "cloth/types.h"
 
@@ -31,11 +30,5 @@ Scalar segmentBoxDistance(const Vec3& p0, const Vec3& p1, const Vec3& center, co
 
 // The distance of a point to an oriented box (0 inside).
 Scalar pointBoxDistance(const Vec3& p, const Vec3& center, const Mat3& R, const Vec3& e);
-
-// In the plane across the pole (2D, the pole's axis at the origin, its solid a disk of radius r):
-// a lower bound of the distance from q to the shadow of the disk seen from p (the points x for
-// which the segment p-x meets the disk), p outside the disk: the smaller of q's distance to the
-// disk and to the two rays that bound the shadow (from each tangent point, away from p).
-Scalar shadowDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& q, Scalar r);
 
 }  // namespace cloth::contact

@@ -15,8 +15,8 @@ CrossingWatch::CrossingWatch(const SceneConfig& scene, const PoleMount& mount, b
 
 void CrossingWatch::count(const Flag& flag, const RigidFrame& carrier, const cloth::Collider* body) {
     cloth::CrossingScene scene;
-    scene.capsules.push_back({carrier.point(mount_.base), carrier.point(mount_.base + Eigen::Vector3d(0, mount_.height, 0)),
-                              mount_.radius});
+    const auto [a, b] = cloth::poleAxis(mount_);  // the pole's solid, as contact keeps the cloth out of it
+    scene.capsules.push_back({carrier.point(a), carrier.point(b), mount_.radius});
     if (body) scene.boxes.push_back({body->center, body->rotation, body->halfExtents});
     if (ground_) scene.grounds.push_back({});
     const cloth::CrossingCounts c =

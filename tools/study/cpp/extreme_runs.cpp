@@ -35,7 +35,8 @@ void record(ExtremeRun& r, const cloth::Diagnostics& d, const cloth::Cloth& flag
 // pinned column's edges are its sleeve and are left out), and through the flag itself.
 int crossingsOf(const cloth::Cloth& flag, const engine::PoleMount& mount, const engine::RigidFrame& c, bool onAxis) {
     cloth::CrossingScene scene;
-    scene.capsules.push_back({c.point(mount.base), c.point(mount.base + Eigen::Vector3d(0, mount.height, 0)), mount.radius});
+    const auto [a, b] = cloth::poleAxis(mount);
+    scene.capsules.push_back({c.point(a), c.point(b), mount.radius});
     std::vector<std::uint8_t> sleeve;
     if (onAxis) {
         sleeve.assign(std::size_t(flag.model().particleCount()), 0);
