@@ -152,11 +152,11 @@ TEST(Contact, AParticlePressedIntoACapsuleStepAfterStepKeepsAGapOfATenthOfTheThi
     EXPECT_LT(closest, 0.2 * set.thickness);  // pressed close: the floor is what holds it
 }
 
-TEST(Contact, ACloudOfParticlesLeavesSelfContactOutAndStillKeepsTheSolidsOut) {
-    // A cloth blown apart (an unstable solver): every particle of a 17x17 sheet thrown into a 10 cm
-    // cube beside a rod. Its tens of thousands of self pairs would take seconds a step; past 128
-    // a particle the stage leaves self-contact out of the step and says so, and still keeps every
-    // particle out of the rod. A flat sheet's step is not left out.
+TEST(Contact, ACloudOfParticlesTooCloseToBoundKeepsItsStart) {
+    // A cloth blown apart (an unstable solver): every free particle of a 17x17 sheet thrown into a
+    // 10 cm cube beside a rod. Its tens of thousands of self pairs would take seconds a step to
+    // bound; past 128 a particle the stage says so and leaves every free particle where the step
+    // started (uncrossed, out of the rod). A flat sheet's step is bounded as usual.
     Sheet s = sheet(17, 17, 0.5, 0.5, Vec3(0, 0, 0));
     const Collider pole = rod(0.6, 0.05, 0.01);
     ContactSettings set = on();
@@ -167,17 +167,14 @@ TEST(Contact, ACloudOfParticlesLeavesSelfContactOutAndStillKeepsTheSolidsOut) {
     flat.x.row(2).array() += 0.001;
     const ContactReport quiet = stage.apply(s.model, s.pinned, start, flat, RigidFrame{}, RigidFrame{}, {pole}, set, 1.0 / 240);
     EXPECT_EQ(quiet.overloaded, 0);
+    EXPECT_EQ(flat.x(2, 5), 0.001);
     unsigned seed = 7;
     auto unit = [&] { return Scalar((seed = seed * 1103515245u + 12345u) >> 8 & 0xffff) / 0xffff; };
     for (Index i = 1; i < s.model.particleCount(); ++i)
         s.state.x.col(i) = Vec3(0.5 + 0.1 * unit(), 0.1 * unit(), 0.1 * unit() - 0.05);
     const ContactReport r = stage.apply(s.model, s.pinned, start, s.state, RigidFrame{}, RigidFrame{}, {pole}, set, 1.0 / 240);
     EXPECT_EQ(r.overloaded, 1);
-    EXPECT_EQ(r.selfPairs, 0);
-    for (Index i = 0; i < s.model.particleCount(); ++i) {
-        EXPECT_TRUE(s.state.x.col(i).allFinite());
-        EXPECT_GE(fromAxis(s.state.x.col(i), 0.6, 0.05), 0.01) << "particle " << i;
-    }
+    for (Index i = 0; i < s.model.particleCount(); ++i) EXPECT_EQ(s.state.x.col(i), start.col(i)) << "particle " << i;
 }
 
 TEST(Contact, AParticlePressedOnACapsuleSlidesAlongItFreely) {

@@ -22,6 +22,8 @@
 //        surface, and slides along it freely (the capsule lies behind that plane, so nothing
 //        on the plane's side reaches it; a bound on the whole move held pressed particles still).
 //   3. the positions back in the world, each particle's velocity changed by its correction / h.
+// A step with more self pairs than it can bound in reasonable time (ContactReport::overloaded)
+// leaves the free particles at their start in the carrier's frame.
 // The state is never left crossed if it started uncrossed. Pinned particles are never moved.
 
 #include <cstdint>
@@ -52,8 +54,9 @@ struct ContactReport {
     int selfPairs = 0;     // self pairs from the broad phase
     int near = 0;          // vertices and edges near a solid
     int limited = 0;       // particle moves cut short by their bounds, summed over sub-intervals
-    // Applications whose self-contact was left out: more self pairs than 128 per particle, which
-    // only a cloth already blown apart has (an unstable solver); the solids were still kept out.
+    // Applications with more self pairs than 128 per particle (a cloth blown apart by an unstable
+    // solver, or thrown 1 m by a teleport): too many to bound, so the free particles kept their
+    // start in the carrier's frame, which is uncrossed (the cloth moved with its carrier).
     int overloaded = 0;
     ContactReport& operator+=(const ContactReport& r) {  // two applications' work together
         subintervals += r.subintervals, selfPairs += r.selfPairs, near += r.near, limited += r.limited;

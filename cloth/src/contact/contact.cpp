@@ -22,9 +22,10 @@ constexpr Scalar kSolidShare = 0.9;   // of a gap to a solid, which does not mov
 // (a rounding of 1e-16 m) flips into a crossing.
 constexpr Scalar kFloor = 0.1;
 constexpr int kMaxSubintervals = 64;  // beyond it the sub-intervals' moves grow: the bounds still hold
-// Self pairs per particle beyond which a step's self-contact is left out (ContactReport::overloaded):
-// only a cloth already blown apart has them (an unstable solver: 765 per particle, seconds a tick);
-// the demo's flag folded in the hard brake has 33.
+// Self pairs per particle beyond which a step is too many to bound (ContactReport::overloaded): its
+// free particles keep their start in the carrier's frame, which is uncrossed. A cloth blown apart
+// by an unstable solver has 765 per particle (seconds a tick to bound), a flag thrown 1 m by a
+// teleport more than 128 at 33x33 (minutes); the demo's flag folded in the hard brake has 33.
 constexpr std::size_t kMaxPairsPerParticle = 128;
 // m: a pair is left unmeasured only when its lower bound clears what it is compared with by this
 // much, far above the rounding of the bound (1e-16 m), so that its exact distance would have
@@ -356,10 +357,7 @@ void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<st
         if (!nr.vertices.empty() || !nr.edges.empty()) near.push_back(std::move(nr));
     }
     pairs.clear(), ids.clear(), gap.clear();
-    if (settings.self && !selfPairs(broad, pinned)) {
-        pairs.clear(), ids.clear(), gap.clear(), snap.clear();
-        report.overloaded = 1;
-    }
+    if (settings.self && !selfPairs(broad, pinned)) report.overloaded = 1;
     report.selfPairs = int(pairs.size());
 }
 
@@ -458,6 +456,17 @@ ContactReport ContactStage::apply(const Model& model, const std::vector<std::uin
     Work& w = *work_;
     w.model = &model;
     w.gather(*broad_, pinned, xStart, state, from, to, solids, settings, report);
+    // Back in the world: each moved particle's correction becomes a change of its velocity.
+    auto place = [&](Index i, const Vec3& y) {
+        const Vec3 x = to.point(y);
+        state.v.col(i) += (x - state.x.col(i)) / h;
+        state.x.col(i) = x;
+    };
+    if (report.overloaded) {  // too many pairs to bound: the free particles keep their uncrossed start
+        for (Index i = 0; i < model.particleCount(); ++i)
+            if (!pinned[i]) place(i, w.y0.col(i));
+        return report;
+    }
     const Scalar reach = w.markActive(pinned);
     if (w.moving.empty()) return report;
     report.subintervals = std::clamp(int(std::ceil(reach / settings.maxMove)), 1, kMaxSubintervals);
@@ -469,12 +478,7 @@ ContactReport ContactStage::apply(const Model& model, const std::vector<std::uin
     w.travel.assign(model.particleCount(), 0);
     w.need.resize(model.particleCount()), w.len.resize(model.particleCount());
     for (int k = 1; k <= report.subintervals; ++k) w.advance(Scalar(k) / report.subintervals, pinned, report);
-    // Back in the world: each moved particle's correction becomes a change of its velocity.
-    for (Index i : w.moving) {
-        const Vec3 x = to.point(w.y.col(i));
-        state.v.col(i) += (x - state.x.col(i)) / h;
-        state.x.col(i) = x;
-    }
+    for (Index i : w.moving) place(i, w.y.col(i));
     return report;
 }
 
