@@ -232,28 +232,24 @@ void ContactStage::Work::solidBounds() {
 // only as far as the plane of each sub-interval lets its free end.
 void ContactStage::Work::capsuleBounds(const Near& n) {
     const Collider& c = *n.solid;
-    const auto [a, b] = axisOf(c);
+    const std::pair<Vec3, Vec3> axis = axisOf(c);
+    const Vec3 &a = axis.first, &b = axis.second;
     auto keepOff = [&](Index i, const Vec3& normal, const Vec3& q) {
         if (invMass[i] == 0) return;
         keepTo(i, normal, kSolidShare * ((y.col(i) - q).dot(normal) - c.radius - floor()));
     };
-    for (Index i : n.vertices) {
-        const auto at = contact::closestSegments(y.col(i), y.col(i), a, b);
-        const Vec3 q = (1 - at.t) * a + at.t * b;
-        if (at.distance <= 0) limit(i, 0);
-        else keepOff(i, (y.col(i) - q) / at.distance, q);
-    }
-    for (Index e : n.edges) {
-        const Index i = (*edges)[e][0], j = (*edges)[e][1];
+    // The segment i-j (a vertex: i == j) against the plane through the axis's closest point to it;
+    // on the axis there is no plane, and its ends stay where they are.
+    auto keepSegmentOff = [&](Index i, Index j) {
         const auto at = contact::closestSegments(y.col(i), y.col(j), a, b);
+        if (at.distance <= 0) return limit(i, 0), limit(j, 0);
         const Vec3 p = (1 - at.s) * y.col(i) + at.s * y.col(j), q = (1 - at.t) * a + at.t * b;
-        if (at.distance <= 0) {
-            limit(i, 0), limit(j, 0);
-            continue;
-        }
         const Vec3 normal = (p - q) / at.distance;
-        keepOff(i, normal, q), keepOff(j, normal, q);
-    }
+        keepOff(i, normal, q);
+        if (j != i) keepOff(j, normal, q);
+    };
+    for (Index i : n.vertices) keepSegmentOff(i, i);
+    for (Index e : n.edges) keepSegmentOff((*edges)[e][0], (*edges)[e][1]);
 }
 
 // Particle i's move cut to its half-spaces and its bound: each plane it leaves is met by taking off
