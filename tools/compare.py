@@ -1,19 +1,27 @@
 #!/usr/bin/env python3
 """Side by side: one scene and its script run with two to four flag solvers, each recorded by
-flagsim, then tiled into one video with each tile labelled by its solver (ffmpeg).
+flagsim, then tiled into one video with each tile labelled by its solver and its cloth milliseconds
+per frame (ffmpeg).
 
     tools/run compare --solvers "kangcho;small_steps:max_move=0.01" [--scene S] [--frames N]
                       [--out DIR] [--width W] [--height H]
 
 Every run drives the same vehicle with the same input, so the tiles differ only in the flag.
 Writes DIR/<k>/ (each run's frames-free recording: video.mp4, summary.json, profile.csv) and
-DIR/compare.mp4 (2: side by side; 3 or 4: two by two). A bad solver spec stops before any run,
-with flagsim's message naming it.
+DIR/compare.mp4 (2: side by side; 3 or 4: two by two). Under each solver's name: its cloth per frame
+(air, forces, solve, collisions and contact from its profile.csv, as tools/bench_cloth_budget.py sums
+them), the mean over the last second, renewed every half second, and the whole run's mean
+(DIR/<k>/labels.cmd holds the renewals). A bad solver spec stops before any run, with flagsim's
+message naming it.
 """
+import csv
+import json
 import argparse
 import os
 import subprocess
 import sys
+
+from bench_cloth_budget import PHASES
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FONT = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
@@ -47,7 +55,9 @@ def parse(argv):
 
 def run_args(a, spec, out):
     args = [a.flagsim, "--scene", a.scene, "--solver", spec, "--out", out, "--force", "--no-frames", "--video",
-            "--width", str(a.width), "--height", str(a.height), "--no-progress"]
+            "--width", str(a.width), "--height", str(a.height)]
+    if not sys.stdout.isatty():
+        args.append("--no-progress")
     return args + (["--frames", str(a.frames)] if a.frames else [])
 
 
@@ -60,13 +70,45 @@ def check_specs(a):
             fail(f"--solvers: '{spec}': {r.stderr.strip().splitlines()[-1] if r.stderr.strip() else 'flagsim failed'}")
 
 
-def tile_filter(specs, width, height):
-    """ffmpeg's filter graph: each input labelled, then side by side (2) or two by two (3, 4)."""
+def cloth_ms(run_dir):
+    """Each frame's cloth milliseconds in a run (profile.csv) and its frames per second (summary.json)."""
+    with open(os.path.join(run_dir, "profile.csv"), newline="") as f:
+        sums = [sum(float(r.get(p) or 0) for p in PHASES) for r in csv.DictReader(f)]
+    with open(os.path.join(run_dir, "summary.json")) as f:
+        summary = json.load(f)
+    if not sums or summary.get("sim_time_s", 0) <= 0:
+        fail(f"{run_dir}: no frames in profile.csv or summary.json")
+    return sums, summary["frames"] / summary["sim_time_s"]
+
+
+def label_commands(sums, fps, target):
+    """sendcmd lines renewing `target`'s text every half second: the last second's mean cloth
+    milliseconds per frame, then the run's mean (no ',' or ':' in the text, which sendcmd parses)."""
+    mean = sum(sums) / len(sums)
+    step, window = max(1, round(fps / 2)), max(1, round(fps))
+    lines = []
+    for k in range(0, len(sums), step):
+        last = sums[max(0, k + 1 - window): k + 1]
+        text = f"cloth {sum(last) / len(last):.1f} ms/frame (run mean {mean:.1f})"
+        lines.append(f"{k / fps:.4f} {target} reinit text='{text}';")
+    return "\n".join(lines) + "\n"
+
+
+def quoted(text):
+    """Text for a filter option inside '...' (ffmpeg's escaping)."""
+    return text.replace("\\", "\\\\").replace(":", "\\:").replace("'", "\\'").replace(",", "\\,")
+
+
+def tile_filter(specs, width, height, commands):
+    """ffmpeg's filter graph: each input labelled with its solver and, below it, its cloth
+    milliseconds (renewed by the sendcmd file commands[k]), then side by side (2) or two by two
+    (3, 4)."""
     parts = []
+    size = max(12, height // 20)
     for k, spec in enumerate(specs):
-        label = spec.replace("\\", "\\\\").replace(":", "\\:").replace("'", "\\'").replace(",", "\\,")
-        parts.append(f"[{k}:v]drawtext=fontfile={FONT}:text='{label}':x=10:y=10:fontsize={max(12, height // 20)}:"
-                     f"fontcolor=white:box=1:boxcolor=black@0.5[t{k}]")
+        text = f"fontfile={FONT}:fontsize={size}:fontcolor=white:box=1:boxcolor=black@0.5:x=10"
+        parts.append(f"[{k}:v]drawtext={text}:y=10:text='{quoted(spec)}',sendcmd=f='{quoted(commands[k])}',"
+                     f"drawtext@ms{k}={text}:y={10 + size * 3 // 2}:text='cloth'[t{k}]")
     if len(specs) == 2:
         parts.append("[t0][t1]hstack=inputs=2:shortest=1[out]")
     else:  # two by two; with three, the fourth corner black
@@ -82,19 +124,22 @@ def main(argv):
         fail(f"no flagsim at {a.flagsim}: build it first (tools/run demo --help builds it)")
     os.makedirs(a.out, exist_ok=True)
     check_specs(a)
-    videos = []
+    videos, commands = [], []
     for k, spec in enumerate(a.specs, start=1):
         out = os.path.join(a.out, str(k))
         print(f"compare: [{k}/{len(a.specs)}] {spec} -> {out}", flush=True)
         if subprocess.run(run_args(a, spec, out)).returncode != 0:
             fail(f"the run of '{spec}' failed: {out}")
         videos.append(os.path.join(out, "video.mp4"))
+        commands.append(os.path.join(out, "labels.cmd"))
+        with open(commands[-1], "w") as f:
+            f.write(label_commands(*cloth_ms(out), f"drawtext@ms{k - 1}"))
     target = os.path.join(a.out, "compare.mp4")
     partial = target + ".tmp.mp4"
     cmd = ["ffmpeg", "-y", "-loglevel", "error"]
     for v in videos:
         cmd += ["-i", v]
-    cmd += ["-filter_complex", tile_filter(a.specs, a.width, a.height), "-map", "[out]", "-c:v", "libx264",
+    cmd += ["-filter_complex", tile_filter(a.specs, a.width, a.height, commands), "-map", "[out]", "-c:v", "libx264",
             "-pix_fmt", "yuv420p", "-shortest", partial]
     if subprocess.run(cmd).returncode != 0:
         if os.path.exists(partial):

@@ -1,7 +1,9 @@
 #!/bin/sh
 # tools/compare.py end to end: two solvers for six frames in 160x90 tiles give one labelled video
-# of 320x90 and six frames (ffprobe reads it back); one solver, or a mistyped one, is refused with
-# exit code 2 and a message naming it, and leaves no video.
+# of 320x90 and six frames (ffprobe reads it back); each tile's first label holds its first frame's
+# cloth milliseconds and its run's mean, as awk sums the air, forces, solve, collision and contact
+# columns of its profile.csv. One solver, or a mistyped one, is refused with exit code 2 and a
+# message naming it, and leaves no video.
 # Usage: test_compare.sh PYTHON COMPARE_PY FLAGSIM OUT_DIR
 set -u
 py=$1 compare=$2 flagsim=$3 out=$4
@@ -12,6 +14,14 @@ fail() { echo "FAIL: $*"; exit 1; }
     --out "$out/two" > "$out/two.log" 2>&1 || { cat "$out/two.log"; fail "two solvers: exit $?"; }
 probe=$(ffprobe -v error -count_frames -show_entries stream=width,height,nb_read_frames -of csv=p=0 "$out/two/compare.mp4")
 [ "$probe" = "320,90,6" ] || fail "compare.mp4 is '$probe', not 320,90,6"
+for k in 1 2; do
+    want=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+        { c = $col["air"] + $col["cloth_forces"] + $col["cloth_solve"] + $col["collision"] + $col["contact"]
+          if (n++ == 0) first = c; s += c }
+        END { printf "cloth %.1f ms/frame (run mean %.1f)", first, s / n }' "$out/two/$k/profile.csv")
+    grep -qF "0.0000 drawtext@ms$((k - 1)) reinit text='$want';" "$out/two/$k/labels.cmd" ||
+        { cat "$out/two/$k/labels.cmd"; fail "tile $k is not labelled '$want'"; }
+done
 
 "$py" "$compare" --flagsim "$flagsim" --solvers "kangcho" --out "$out/one" > "$out/one.log" 2>&1
 code=$?
