@@ -51,7 +51,7 @@ struct ContactSettings {
 // What one application found and did.
 struct ContactReport {
     int subintervals = 0;  // the step's motion cut into this many
-    int selfPairs = 0;     // self pairs from the broad phase
+    int selfPairs = 0;     // self pairs within reach (when overloaded: the broad phase's candidates)
     int near = 0;          // vertices and edges near a solid
     int limited = 0;       // particle moves cut short by their bounds, summed over sub-intervals
     // Applications with more self pairs than 128 per particle (a cloth blown apart by an unstable

@@ -138,6 +138,7 @@ void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, S
     for (Index i = 0; i < n; ++i) halfMove_[i] = 0.5 * (y1.col(i) - y0.col(i)).norm();
     margin_ = margin;
     refitBoxes(0);
+    searched_.clear(), keptPairs_.clear();
 }
 
 void BroadPhase::widen(const Points& y0, const Points& y1, const std::vector<std::uint8_t>& pushed) {
@@ -206,23 +207,25 @@ bool BroadPhase::farEdges(Index e, Index f) const {
     return far(a[0], b[0]) && far(a[0], b[1]) && far(a[1], b[0]) && far(a[1], b[1]);
 }
 
-void BroadPhase::selfPairs(std::vector<Pair>& out, std::size_t most) const {
+std::size_t BroadPhase::selfPairs(std::vector<Pair>& out, std::size_t most, const Keep& keep) {
     out.clear();
-    if (!nodes_.empty()) self(0, out, most);
+    Search search{out, most, keep};
+    if (!nodes_.empty()) self(0, search);
+    return search.found;
 }
 
-void BroadPhase::self(int n, std::vector<Pair>& out, std::size_t most) const {
+void BroadPhase::self(int n, Search& search) {
     const Node& node = nodes_[n];
     if (node.cosHalf > kFlat || node.leaf()) return;  // flat; a leaf's pairs are all within the springs' reach
     for (int i = 0; i < 4 && node.child[i] >= 0; ++i) {
-        self(node.child[i], out, most);
-        for (int j = i + 1; j < 4 && node.child[j] >= 0; ++j) cross(node.child[i], node.child[j], out, most);
+        self(node.child[i], search);
+        for (int j = i + 1; j < 4 && node.child[j] >= 0; ++j) cross(node.child[i], node.child[j], search);
     }
 }
 
-void BroadPhase::cross(int a, int b, std::vector<Pair>& out, std::size_t most) const {
+void BroadPhase::cross(int a, int b, Search& search) {
     const Node &A = nodes_[a], &B = nodes_[b];
-    if (out.size() > most || !A.box.overlaps(B.box)) return;
+    if (search.found > search.most || !A.box.overlaps(B.box)) return;
     const int span = std::max(std::max(A.c1, B.c1) - std::min(A.c0, B.c0), std::max(A.r1, B.r1) - std::min(A.r0, B.r0));
     if (span <= kExcludedCells) return;  // every pair within the springs' reach
     const bool adjacent = A.c0 <= B.c1 && B.c0 <= A.c1 && A.r0 <= B.r1 && B.r0 <= A.r1;
@@ -232,11 +235,28 @@ void BroadPhase::cross(int a, int b, std::vector<Pair>& out, std::size_t most) c
         mergeCones(A.axis, A.cosHalf, B.axis, B.cosHalf, axis, cosHalf);
         if (cosHalf > kFlat) return;  // one flat patch
     }
-    if (A.leaf() && B.leaf()) return leafPairs(A, B, out);
+    if (A.leaf() && B.leaf()) return leaves(a, b, search);
     const bool splitA = !A.leaf() && (B.leaf() || (A.c1 - A.c0) * (A.r1 - A.r0) >= (B.c1 - B.c0) * (B.r1 - B.r0));
     const Node& big = splitA ? A : B;
     for (int c : big.child)
-        if (c >= 0) cross(splitA ? c : a, splitA ? b : c, out, most);
+        if (c >= 0) cross(splitA ? c : a, splitA ? b : c, search);
+}
+
+// Two leaves' kept pairs: searched and kept at their first meeting since the refit (the boxes
+// and so the candidates are the same until the next), reused after.
+void BroadPhase::leaves(int a, int b, Search& search) {
+    const auto [at, first] = searched_.try_emplace((std::uint64_t(a) << 32) | std::uint32_t(b));
+    Searched& s = at->second;
+    if (first) {
+        candidates_.clear();
+        leafPairs(nodes_[a], nodes_[b], candidates_);
+        s.begin = keptPairs_.size(), s.found = candidates_.size();
+        for (Pair& p : candidates_)
+            if (search.keep(p)) keptPairs_.push_back(p);
+        s.end = keptPairs_.size();
+    }
+    search.found += s.found;
+    search.out.insert(search.out.end(), keptPairs_.begin() + std::ptrdiff_t(s.begin), keptPairs_.begin() + std::ptrdiff_t(s.end));
 }
 
 void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out) const {
@@ -250,11 +270,18 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
     };
     // Two cells' primitives can form a pair only if the cells' boxes (each holding its triangles, and
     // so the vertices and edges it owns) overlap and the cells are more than one cell apart: within
-    // one, every corner of one lies within kExcludedCells of every corner of the other.
+    // one, every corner of one lies within kExcludedCells of every corner of the other. Tested once
+    // for each two cells (meet[a][b], a leaf has at most 2 x 2 cells).
     static_assert(kExcludedCells >= 2, "cells within one of each other are skipped");
-    auto mayMeet = [&](const Cell& a, const Cell& b) {
-        return (std::abs(a.r - b.r) > 1 || std::abs(a.c - b.c) > 1) && cellBox_[a.index].overlaps(cellBox_[b.index]);
-    };
+    std::array<std::array<bool, 4>, 4> meet{};
+    bool any = false;
+    cells(A, [&](const Cell& a) {
+        cells(B, [&](const Cell& b) {
+            meet[a.k][b.k] = (std::abs(a.r - b.r) > 1 || std::abs(a.c - b.c) > 1) && cellBox_[a.index].overlaps(cellBox_[b.index]);
+            any = any || meet[a.k][b.k];
+        });
+    });
+    if (!any) return;
     // A primitive whose box misses the other node's box meets none of its primitives (their boxes
     // lie in it): flagged once per node pair and skipped, which keeps the pairs and their order.
     using Flags = std::array<std::array<bool, 8>, 4>;  // a leaf: at most 2 x 2 cells
@@ -267,11 +294,11 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
         });
         return f;
     };
-    auto vertexTriangles = [&](const Node& V, const Node& T) {
+    auto vertexTriangles = [&](const Node& V, const Node& T, bool swapped) {
         const Flags in = flag(V, cellVertices_, vertexBox_, T.box);
         cells(V, [&](const Cell& cv) {
             cells(T, [&](const Cell& ct) {
-                if (!mayMeet(cv, ct)) return;
+                if (!(swapped ? meet[ct.k][cv.k] : meet[cv.k][ct.k])) return;
                 const auto& vertices = cellVertices_[cv.index];
                 for (std::size_t i = 0; i < vertices.size(); ++i) {
                     const Index v = vertices[i];
@@ -283,11 +310,11 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
             });
         });
     };
-    vertexTriangles(A, B), vertexTriangles(B, A);
+    vertexTriangles(A, B, false), vertexTriangles(B, A, true);
     const Flags inB = flag(A, cellEdges_, edgeBox_, B.box);
     cells(A, [&](const Cell& ca) {
         cells(B, [&](const Cell& cb) {
-            if (!mayMeet(ca, cb)) return;
+            if (!meet[ca.k][cb.k]) return;
             const auto& edges = cellEdges_[ca.index];
             for (std::size_t i = 0; i < edges.size(); ++i) {
                 const Index e = edges[i];

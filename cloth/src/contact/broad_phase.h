@@ -15,6 +15,8 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <unordered_map>
 #include <vector>
 
 #include "cloth/model.h"
@@ -34,7 +36,12 @@ struct Box {
 struct Pair {
     enum class Kind : std::uint8_t { VertexTriangle, EdgeEdge } kind;
     Index a = 0, b = 0;  // vertex and triangle, or the two edges (indices into mesh edges)
+    Scalar gap = 0;      // what the search's Keep records: the pair's distance at the step's start
 };
+
+// Whether a candidate self pair is kept (it may fill in the pair's gap). It must give the same
+// answer for a pair until the next refit: the search keeps its answers.
+using Keep = std::function<bool(Pair&)>;
 
 class BroadPhase {
 public:
@@ -46,8 +53,11 @@ public:
     // straight move, or anywhere within margin / 2 of it where `pushed` flags it (the contact
     // stage's pushes).
     void widen(const Points& y0, const Points& y1, const std::vector<std::uint8_t>& pushed);
-    // The self pairs that may touch during the step; past `most` the search stops (out holds more).
-    void selfPairs(std::vector<Pair>& out, std::size_t most) const;
+    // The self pairs that may touch during the step and that `keep` keeps, in the order of the
+    // tree's search. Returns the candidates found: past `most` the search stops. Within one refit,
+    // each two leaves are searched and their candidates kept once: a later call (wider cones after
+    // another widen, which open more nodes) reuses them, so it costs only the tree's walk.
+    std::size_t selfPairs(std::vector<Pair>& out, std::size_t most, const Keep& keep);
     // The free vertices and mesh edges whose swept boxes reach `box`.
     void near(const Box& box, const std::vector<std::uint8_t>& pinned, std::vector<Index>& vertices,
               std::vector<Index>& edges) const;
@@ -69,8 +79,15 @@ private:
     void eachTriangle(const Node& node, F fn) const;
     void refitBoxes(int n);
     void refitCones(int n);
-    void self(int n, std::vector<Pair>& out, std::size_t most) const;
-    void cross(int a, int b, std::vector<Pair>& out, std::size_t most) const;
+    struct Search {  // one selfPairs call
+        std::vector<Pair>& out;
+        std::size_t most;
+        const Keep& keep;
+        std::size_t found = 0;  // candidates, kept or not
+    };
+    void self(int n, Search& search);
+    void cross(int a, int b, Search& search);
+    void leaves(int a, int b, Search& search);
     void leafPairs(const Node& a, const Node& b, std::vector<Pair>& out) const;
     bool far(Index u, Index v) const;  // more than kExcludedCells cells apart
     bool farTriangle(Index v, Index t) const;
@@ -90,6 +107,13 @@ private:
     std::vector<Scalar> reach_;      // each particle's distance from its move's midpoint, at most
     std::vector<Vec3> coneAxis_;     // each triangle's normal cone over the step
     std::vector<Scalar> coneCos_;
+    // Since the last refit: each two leaves searched (key a << 32 | b), their kept pairs in
+    // keptPairs_ [begin, end) and their candidates' count.
+    struct Searched {
+        std::size_t begin = 0, end = 0, found = 0;
+    };
+    std::unordered_map<std::uint64_t, Searched> searched_;
+    std::vector<Pair> keptPairs_, candidates_;
 };
 
 }  // namespace cloth::contact

@@ -68,6 +68,7 @@ struct ContactStage::Work {
     std::vector<Index> moving;  // the active free particles, in increasing order
     std::vector<Index> touched;  // the active and the pinned particles, in increasing order: all a sub-interval moves
     std::vector<Pair> pairs;
+    std::size_t candidates = 0;  // the broad phase's candidates when too many (overloaded)
     std::vector<std::array<Index, 4>> ids;  // each pair's particles: the vertex and the triangle's, or both edges'
     std::vector<Scalar> gap;                // each self pair's distance when last measured
     std::vector<std::array<Scalar, 4>> snap;  // its particles' travel then
@@ -118,7 +119,8 @@ struct ContactStage::Work {
     }
     void capsuleBounds(const Near& n);
     bool bounded(Index i, Vec3& move) const;
-    void filter(Scalar thickness);
+    bool mayMeet(Pair& p) const;
+    std::array<Index, 4> particlesOf(const Pair& p) const;
     void selfBounds();
     void solidBounds();
     void separate();
@@ -131,12 +133,12 @@ struct ContactStage::Work {
     void advance(Scalar f, const std::vector<std::uint8_t>& pinned, ContactReport& report);
 };
 
-// Keeps the pairs and the solids' primitives that can come within reach during the step: a
-// particle moves at most its straight move plus a push of `thickness` off it (pushes are capped),
-// so two primitives further apart than their particles' moves plus three thicknesses never meet.
-// A kept pair's distance at the start is its first measured gap.
-void ContactStage::Work::filter(Scalar thickness) {
-    const auto& tris = model->triangles();
+// Whether a self pair can come within reach during the step: a particle moves at most its straight
+// move plus a push of `thickness` off it (pushes are capped), so two primitives further apart than
+// their particles' moves plus three thicknesses never meet. A kept pair's distance at the start
+// (p.gap) is its first measured gap.
+bool ContactStage::Work::mayMeet(Pair& p) const {
+    const std::array<Index, 4> q = particlesOf(p);
     auto moveOf = [&](std::initializer_list<Index> ids) {
         Scalar m = 0;
         for (Index i : ids) m = std::max(m, reachOf[i]);
@@ -150,28 +152,23 @@ void ContactStage::Work::filter(Scalar thickness) {
         for (Index i : b) bb.add(y0.col(i));
         return (ba.lo - bb.hi).cwiseMax(bb.lo - ba.hi).cwiseMax(0).norm();
     };
-    std::size_t kept = 0;
-    ids.clear(), gap.clear();
-    for (const Pair& p : pairs) {
-        std::array<Index, 4> q;
-        if (p.kind == Pair::Kind::VertexTriangle) {
-            const Triangle& t = tris[p.b];
-            q = {p.a, t[0], t[1], t[2]};
-        } else {
-            const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
-            q = {e[0], e[1], f[0], f[1]};
-        }
-        const bool vt = p.kind == Pair::Kind::VertexTriangle;
-        const Scalar reach = (vt ? reachOf[q[0]] + moveOf({q[1], q[2], q[3]}) : moveOf({q[0], q[1]}) + moveOf({q[2], q[3]})) +
-                             3 * thickness;
-        if (vt ? boxGap({q[0]}, {q[1], q[2], q[3]}) >= reach : boxGap({q[0], q[1]}, {q[2], q[3]}) >= reach) continue;
-        const Scalar d = vt ? contact::closestOnTriangle(y0.col(q[0]), y0.col(q[1]), y0.col(q[2]), y0.col(q[3])).distance
-                            : contact::closestSegments(y0.col(q[0]), y0.col(q[1]), y0.col(q[2]), y0.col(q[3])).distance;
-        if (d >= reach) continue;
-        pairs[kept++] = p, ids.push_back(q), gap.push_back(d);
+    const bool vt = p.kind == Pair::Kind::VertexTriangle;
+    const Scalar reach = (vt ? reachOf[q[0]] + moveOf({q[1], q[2], q[3]}) : moveOf({q[0], q[1]}) + moveOf({q[2], q[3]})) +
+                         3 * thickness;
+    if (vt ? boxGap({q[0]}, {q[1], q[2], q[3]}) >= reach : boxGap({q[0], q[1]}, {q[2], q[3]}) >= reach) return false;
+    p.gap = vt ? contact::closestOnTriangle(y0.col(q[0]), y0.col(q[1]), y0.col(q[2]), y0.col(q[3])).distance
+               : contact::closestSegments(y0.col(q[0]), y0.col(q[1]), y0.col(q[2]), y0.col(q[3])).distance;
+    return p.gap < reach;
+}
+
+// A pair's particles: the vertex and the triangle's, or both edges'.
+std::array<Index, 4> ContactStage::Work::particlesOf(const Pair& p) const {
+    if (p.kind == Pair::Kind::VertexTriangle) {
+        const Triangle& t = model->triangles()[p.b];
+        return {p.a, t[0], t[1], t[2]};
     }
-    pairs.resize(kept);
-    snap.assign(kept, {0, 0, 0, 0});
+    const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
+    return {e[0], e[1], f[0], f[1]};
 }
 
 // Pair k's exact distance at the current positions.
@@ -354,7 +351,7 @@ void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<st
     }
     pairs.clear(), ids.clear(), gap.clear();
     if (settings.self && !selfPairs(broad, pinned)) report.overloaded = 1;
-    report.selfPairs = int(pairs.size());
+    report.selfPairs = int(report.overloaded ? candidates : pairs.size());
 }
 
 // The self pairs, with the normal cones widened where contact may push a particle off its straight
@@ -363,16 +360,22 @@ void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<st
 // particle, so it ends). False, with no pairs, past kMaxPairsPerParticle.
 bool ContactStage::Work::selfPairs(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned) {
     const std::size_t most = kMaxPairsPerParticle * std::size_t(model->particleCount());
+    const contact::Keep keep = [this](Pair& p) { return mayMeet(p); };
     for (;;) {
         broad.widen(y0, y1, pushed);
-        broad.selfPairs(pairs, most);
-        if (pairs.size() > most) return false;
-        filter(thickness);
+        if (const std::size_t found = broad.selfPairs(pairs, most, keep); found > most) {
+            pairs.clear(), candidates = found;
+            return false;
+        }
         bool grew = false;
-        for (const auto& q : ids)
-            for (Index i : q)
+        for (const Pair& p : pairs)
+            for (Index i : particlesOf(p))
                 if (!pushed[i] && !pinned[i]) pushed[i] = 1, grew = true;
-        if (!grew) return true;
+        if (grew) continue;
+        ids.clear(), gap.clear();
+        for (const Pair& p : pairs) ids.push_back(particlesOf(p)), gap.push_back(p.gap);
+        snap.assign(pairs.size(), {0, 0, 0, 0});
+        return true;
     }
 }
 
