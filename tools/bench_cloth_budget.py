@@ -14,15 +14,19 @@ import sys
 PHASES = ["air", "cloth_forces", "cloth_solve", "collision", "contact"]
 
 
+def frame_sums(path):
+    """Each frame's cloth milliseconds in a flagsim profile.csv, in frame order."""
+    with open(path, newline="") as f:
+        return [sum(float(r.get(p) or 0) for p in PHASES) for r in csv.DictReader(f)]
+
+
 def main():
     print("| run | frames | cloth mean (ms/frame) | cloth median | cloth p99 | budget | within | x demo (mean) | x demo (median) |")
     print("|---|---|---|---|---|---|---|---|---|")
     means, medians = {}, {}
     for arg in sys.argv[1:]:
         label, budget, path = arg.split(":", 2)
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
-        sums = sorted(sum(float(r.get(p) or 0) for p in PHASES) for r in rows)
+        sums = sorted(frame_sums(path))
         if not sums:
             sys.exit(f"{path}: no frames")
         mean = sum(sums) / len(sums)

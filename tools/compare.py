@@ -14,14 +14,13 @@ them), the mean over the last second, renewed every half second, and the whole r
 (DIR/<k>/labels.cmd holds the renewals). A bad solver spec stops before any run, with flagsim's
 message naming it.
 """
-import csv
-import json
 import argparse
+import json
 import os
 import subprocess
 import sys
 
-from bench_cloth_budget import PHASES
+from bench_cloth_budget import frame_sums
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FONT = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
@@ -72,8 +71,7 @@ def check_specs(a):
 
 def cloth_ms(run_dir):
     """Each frame's cloth milliseconds in a run (profile.csv) and its frames per second (summary.json)."""
-    with open(os.path.join(run_dir, "profile.csv"), newline="") as f:
-        sums = [sum(float(r.get(p) or 0) for p in PHASES) for r in csv.DictReader(f)]
+    sums = frame_sums(os.path.join(run_dir, "profile.csv"))
     with open(os.path.join(run_dir, "summary.json")) as f:
         summary = json.load(f)
     if not sums or summary.get("sim_time_s", 0) <= 0:
