@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "cloth/contact.h"
+#include "cloth/crossings.h"
 
 using namespace cloth;
 
@@ -198,3 +199,39 @@ TEST(Contact, AParticlePressedOnACapsuleSlidesAlongItFreely) {
     EXPECT_NEAR(s.state.x(2, 3) - pressed.z(), 0.1, 1e-9);
     EXPECT_GE(fromAxis(s.state.x.col(3), 0.115, 0.1) - 0.01, 0.1 * set.thickness * (1 - 1e-9));
 }
+
+TEST(Contact, AParticleSlidingRoundACapsuleIsStoppedByClothBesideItsStraightPath) {
+    // Particle 15 of an 8 x 2 sheet moves 6 cm along x, straight through a short rod of 2 cm
+    // radius: contact slides it round the rod's top, 2 cm off its straight path. There stands a wall
+    // of the same cloth (a triangle of the sheet's first cells, in the plane x = 0, its lower edge
+    // through the rod), beyond the reach the step's broad phase searches around that path. An edge
+    // from particle 15 to a neighbour just behind the wall would end through it if the particle got
+    // round. Every other particle stands still, far away.
+    Sheet s = sheet(8, 2, 0.7, 0.1, Vec3(0, 0, 0));
+    s.pinned.assign(16, 0);
+    Collider pole = rod(0, 0, 0.02);
+    pole.halfExtents = Vec3(0.005, 0, 0);  // 1 cm long: the wall's ends are outside it
+    for (Index i = 0; i < 16; ++i) s.state.x.col(i) = Vec3(-1 - 0.1 * (i % 8), 0.1 * (i / 8), -1);
+    const Triangle wall = s.model.triangles()[0];  // columns 0 and 1
+    ASSERT_LE(std::max({wall[0] % 8, wall[1] % 8, wall[2] % 8}), 1);
+    s.state.x.col(wall[0]) = Vec3(0, 0.015, -0.03), s.state.x.col(wall[1]) = Vec3(0, 0.015, 0.03);
+    s.state.x.col(wall[2]) = Vec3(0, 0.05, 0);
+    Scalar side = -0.01;
+    for (Index j : {6, 7, 14}) s.state.x.col(j) = Vec3(-0.01, 0.03, side), side += 0.01;
+    s.state.x.col(15) = Vec3(-0.03, 0, 0);
+    const Points start = s.state.x;
+    s.state.x.col(15) = Vec3(0.03, 0.002, 0);
+    CrossingScene scene;
+    scene.capsules.push_back({Vec3(0, 0, -0.005), Vec3(0, 0, 0.005), 0.02});
+    ASSERT_EQ(countCrossings(s.model, start, scene).selfEdges, 0);
+    ASSERT_GT(countCrossings(s.model, s.state.x, scene).selfEdges, 0);  // straight through: the edge 14-15 crosses
+    ContactSettings set = on();
+    set.self = true;
+    ContactStage stage;
+    const ContactReport r = stage.apply(s.model, s.pinned, start, s.state, RigidFrame{}, RigidFrame{}, {pole}, set, 1.0 / 240);
+    EXPECT_GT(r.regionCuts, 0);
+    EXPECT_GT(r.passes, 0);
+    EXPECT_GT(s.state.x(1, 15), 0.01);  // it did slide up round the rod
+    EXPECT_EQ(countCrossings(s.model, s.state.x, scene).selfEdges, 0);
+}
+

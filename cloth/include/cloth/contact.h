@@ -23,13 +23,15 @@
 //        on the plane's side reaches it; a bound on the whole move held pressed particles still).
 //   3. the positions back in the world, each particle's velocity changed by its correction / h.
 // A step with more self pairs than it can bound in reasonable time (ContactReport::overloaded)
-// leaves the free particles at their start in the carrier's frame.
+// leaves the free particles where its pass started (the first: the step's start in the carrier's frame).
 // The state is never left crossed if it started uncrossed. Pinned particles are never moved.
-// A known gap: a particle sliding along a capsule's plane may end a sub-interval farther than
-// `thickness` from its straight move, outside where the broad phase looked for its self pairs. It
-// happens in the main demo's hard brake; the crossing checker finds no crossing there or in any
-// row of docs/study/front_contact.csv. Keeping each sliding particle within `thickness` of its
-// straight move would close it (and change every run with contact from the brake on).
+// Passes: the broad phase looks for a particle's pairs within `thickness` of its straight move (its
+// region). Straight moves plus pushes of at most `thickness` stay there; sliding along a capsule
+// can leave it, and an unsearched part of the cloth may stand there. A move that would leave is cut
+// back to the region's edge (ContactReport::regionCuts), the pass stops after that sub-interval, and
+// the next pass (ContactReport::passes) starts from there with its own broad phase, toward the same
+// end: the step is then several shorter ones, each guaranteed. After eight such restarts a
+// particle at the edge of its region stays there.
 
 #include <cstdint>
 #include <memory>
@@ -53,19 +55,21 @@ struct ContactSettings {
     Scalar maxMove = 0.0025;   // m: the most a particle moves, relative to the carrier, in a sub-interval
 };
 
-// What one application found and did.
+// What one application found and did (or several, summed: long long for a whole run's).
 struct ContactReport {
-    int subintervals = 0;  // the step's motion cut into this many
-    int selfPairs = 0;     // self pairs within reach (when overloaded: the broad phase's candidates)
-    int near = 0;          // vertices and edges near a solid
-    int limited = 0;       // particle moves cut short by their bounds, summed over sub-intervals
+    long long subintervals = 0;  // the step's motion cut into this many (over all its passes)
+    long long selfPairs = 0;     // self pairs within reach (when overloaded: the broad phase's candidates)
+    long long near = 0;          // vertices and edges near a solid
+    long long limited = 0;       // particle moves cut short by their bounds, summed over sub-intervals
+    long long regionCuts = 0;    // particle moves cut back to the region their pass searched (sliding on a capsule)
+    long long passes = 0;        // passes after the first (each after a region cut; at most 8 a step)
     // Applications with more self pairs than 128 per particle (a cloth blown apart by an unstable
     // solver, or thrown 1 m by a teleport): too many to bound, so the free particles kept their
     // start in the carrier's frame, which is uncrossed (the cloth moved with its carrier).
-    int overloaded = 0;
+    long long overloaded = 0;
     ContactReport& operator+=(const ContactReport& r) {  // two applications' work together
         subintervals += r.subintervals, selfPairs += r.selfPairs, near += r.near, limited += r.limited;
-        overloaded += r.overloaded;
+        regionCuts += r.regionCuts, passes += r.passes, overloaded += r.overloaded;
         return *this;
     }
 };
