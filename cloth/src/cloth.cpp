@@ -202,7 +202,8 @@ void Cloth::makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h) 
 std::pair<Clock::time_point, Clock::time_point> Cloth::contactOver(const RigidFrame& from, const RigidFrame& to,
                                                                    const Points& xStart, State& state, Scalar h) {
     const auto t0 = Clock::now();
-    contactReport_ += contactStage_.apply(model_, pinned_, xStart, state, from, to, solids_, settings_.contact, h);
+    const ContactReport r = contactStage_.apply(model_, pinned_, xStart, state, from, to, solids_, settings_.contact, h);
+    contactReport_ += r, contactTotal_ += r;
     const auto t1 = Clock::now();
     profile_.contact += msBetween(t0, t1);
     return {t0, t1};

@@ -126,6 +126,7 @@ public:
     const ClothProfile& profile() const { return profile_; }
     const ClothCounts& counts() const { return counts_; }
     const ContactReport& contactReport() const { return contactReport_; }  // the last step's
+    const ContactReport& contactTotal() const { return contactTotal_; }     // since construction
     const std::vector<Collider>& solids() const { return solids_; }
     long long steps() const { return steps_; }
     int failures() const { return failures_; }
@@ -170,6 +171,7 @@ private:
     RigidFrame carrier_;  // where the last tick left the carrier
     ContactStage contactStage_;
     ContactReport contactReport_;  // summed over the solver's substeps when it runs them
+    ContactReport contactTotal_;   // every application's since construction
     SubstepHook substepHook_;
     Points xStart_;  // the step's start, for contact
     Scalar reach_ = 0;

@@ -35,6 +35,7 @@ int Runtime::finish() {
         f.iterationsMax = counts.maxIterations;
         f.clothFailures = m.flag->failures();
         f.firstClothFailure = m.flag->firstFailure();
+        f.contactOn = m.flag->contactOn(), f.contact = m.flag->contactTotal();
     }
     if (m.crossings) f.crossingsCounted = true, f.crossings = m.crossings->tally(), f.crossingsEveryTick = m.opt.crossingsEveryTick;
     if (m.recording) {

@@ -1,8 +1,10 @@
 #pragma once
 // summary.json: what ran, and the profile summary per phase.
 
-#include "runtime/crossing_watch.h"
 #include <string>
+
+#include "cloth/contact.h"
+#include "runtime/crossing_watch.h"
 
 #include "engine/profile/profiler.h"
 #include "engine/scene/scene.h"
@@ -27,6 +29,8 @@ struct RunFacts {
     bool crossingsCounted = false;  // the flag's crossings (kCollision)
     bool crossingsEveryTick = false;  // counted after every tick, else after each frame's ticks
     CrossingTally crossings;
+    bool contactOn = false;  // the flag's contact stage ran (then the summary has "contact")
+    cloth::ContactReport contact;  // its work, summed over the run
 };
 
 // Writes to a temporary name and renames it into place. Returns false with *error set.

@@ -61,6 +61,8 @@ public:
     // Back to rest on the pole at the carrier's pose (what a failed tick's recovery does).
     void reset(const RigidFrame& carrier) { cloth_.reset(carrier); }
     const SolverCounts& solverCounts() const { return cloth_.counts(); }
+    const cloth::ContactReport& contactTotal() const { return cloth_.contactTotal(); }  // contact's work so far
+    bool contactOn() const { return cloth_.settings().contact.enabled; }
     const std::vector<cloth::Pin>& pins() const { return cloth_.pins(); }
     const FlagTimings& timings() const { return timings_; }
     // Each step's stages go to trace as events too (null: none), named as the runtime's profile
