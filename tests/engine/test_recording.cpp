@@ -1,6 +1,6 @@
 // Recording integrity: an interrupted recording leaves only complete frames and a valid profile;
 // a full disk is a clear error; an existing output folder is not overwritten without --force; the
-// summary counts the solver's iterations; --export-mesh is refused or writes a mesh per frame.
+// summary counts the solver's iterations and contact's work; --export-mesh is refused or writes a mesh per frame.
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -109,6 +109,27 @@ TEST(Recording, TheSummaryCountsTheSolversIterationsPerStep) {
     EXPECT_GE(newton["iterations_mean"].get<double>(), 1.0);
     EXPECT_LE(newton["iterations_max"].get<int>(), 2);
     EXPECT_GE(newton["linear_iterations_mean"].get<double>(), newton["iterations_mean"].get<double>());
+}
+
+// The main demo's first second: contact's work summed over the run. The flag hangs beside its pole,
+// so every step has edges near it and cuts its motion into at least one sub-interval; nothing is
+// overloaded. Without contact the summary has no "contact".
+TEST(Recording, TheSummaryCountsContactsWork) {
+    const auto summary = [](const std::string& scene) {
+        const fs::path out = freshDir("flagsim_contact_summary");
+        EXPECT_EQ(waitExit(spawnDemo({"--scene", scene, "--out", out.string(), "--frames", "60", "--force", "--no-frames",
+                                      "--width", "160", "--height", "120"})),
+                  0);
+        std::ifstream summaryFile(out / "summary.json");
+        return nlohmann::json::parse(summaryFile);
+    };
+    const auto demo = summary("flag_vehicle");
+    ASSERT_TRUE(demo.contains("contact"));
+    const auto& c = demo["contact"];
+    EXPECT_GE(c["subintervals"].get<long long>(), demo["cloth"]["steps"].get<long long>());
+    EXPECT_GT(c["near_solids"].get<long long>(), 0);
+    EXPECT_EQ(c["overloaded_steps"].get<long long>(), 0);
+    EXPECT_FALSE(summary("flag_vehicle_no_contact").contains("contact"));
 }
 
 // The main demo's first 2.5 s without contact, where the paper's step folds through itself: its
