@@ -89,6 +89,14 @@ void BroadPhase::prepare(const Model& model) {
             }
         }
     }
+    cellCorners_.assign(cells, {});
+    for (int c = 0; c < cells; ++c) {
+        for (Index t : cellTriangles_[c]) cellCorners_[c].insert(cellCorners_[c].end(), triangles_[t].begin(), triangles_[t].end());
+        std::sort(cellCorners_[c].begin(), cellCorners_[c].end());
+        cellCorners_[c].erase(std::unique(cellCorners_[c].begin(), cellCorners_[c].end()), cellCorners_[c].end());
+    }
+    cellStamp_.assign(cells, 0), stamp_ = 0;
+    edgeBox_.resize(edges_.size()), triangleBox_.resize(triangles_.size());
     row_.resize(model.particleCount()), col_.resize(model.particleCount());
     for (Index v = 0; v < model.particleCount(); ++v) {
         cellVertices_[cellOf(v, v)].push_back(v);
@@ -124,16 +132,12 @@ void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, S
         b.lo = y0.col(i).cwiseMin(y1.col(i)), b.hi = y0.col(i).cwiseMax(y1.col(i));
         b.lo.array() -= margin / 2, b.hi.array() += margin / 2;
     }
-    edgeBox_.resize(edges_.size());
-    for (std::size_t e = 0; e < edges_.size(); ++e) edgeBox_[e] = joined(vertexBox_[edges_[e][0]], vertexBox_[edges_[e][1]]);
-    triangleBox_.resize(triangles_.size());
-    for (std::size_t t = 0; t < triangles_.size(); ++t) {
-        const Triangle& tri = triangles_[t];
-        triangleBox_[t] = joined(joined(vertexBox_[tri[0]], vertexBox_[tri[1]]), vertexBox_[tri[2]]);
-    }
-    cellBox_.assign(cellTriangles_.size(), Box{});
-    for (std::size_t c = 0; c < cellTriangles_.size(); ++c)
-        for (Index t : cellTriangles_[c]) cellBox_[c].add(triangleBox_[t]);
+    // A cell's box holds its triangles' corners; its edges' and triangles' own boxes are made
+    // when a search first reaches the cell (fresh).
+    cellBox_.assign(cellCorners_.size(), Box{});
+    for (std::size_t c = 0; c < cellCorners_.size(); ++c)
+        for (Index v : cellCorners_[c]) cellBox_[c].add(vertexBox_[v]);
+    ++stamp_;
     halfMove_.resize(n);
     for (Index i = 0; i < n; ++i) halfMove_[i] = 0.5 * (y1.col(i) - y0.col(i)).norm();
     margin_ = margin;
@@ -164,7 +168,11 @@ void BroadPhase::eachTriangle(const Node& node, F fn) const {
 void BroadPhase::refitBoxes(int n) {
     Node& node = nodes_[n];
     node.box = Box{};
-    if (node.leaf()) return eachTriangle(node, [&](Index t) { node.box.add(triangleBox_[t]); });
+    if (node.leaf()) {
+        for (int r = node.r0; r < node.r1; ++r)
+            for (int c = node.c0; c < node.c1; ++c) node.box.add(cellBox_[r * (nx_ - 1) + c]);
+        return;
+    }
     for (int c : node.child) {
         if (c < 0) continue;
         refitBoxes(c);
@@ -191,6 +199,21 @@ void BroadPhase::refitCones(int n) {
         else mergeCones(nodes_[n].axis, nodes_[n].cosHalf, child.axis, child.cosHalf, nodes_[n].axis, nodes_[n].cosHalf);
         first = false;
     }
+}
+
+// The boxes of a leaf's edges and triangles in this refit.
+void BroadPhase::fresh(const Node& leaf) {
+    for (int r = leaf.r0; r < leaf.r1; ++r)
+        for (int c = leaf.c0; c < leaf.c1; ++c) {
+            const int cell = r * (nx_ - 1) + c;
+            if (cellStamp_[cell] == stamp_) continue;
+            cellStamp_[cell] = stamp_;
+            for (Index e : cellEdges_[cell]) edgeBox_[e] = joined(vertexBox_[edges_[e][0]], vertexBox_[edges_[e][1]]);
+            for (Index t : cellTriangles_[cell]) {
+                const Triangle& tri = triangles_[t];
+                triangleBox_[t] = joined(joined(vertexBox_[tri[0]], vertexBox_[tri[1]]), vertexBox_[tri[2]]);
+            }
+        }
 }
 
 bool BroadPhase::far(Index u, Index v) const {
@@ -248,6 +271,7 @@ void BroadPhase::leaves(int a, int b, Search& search) {
     const auto [at, first] = searched_.try_emplace((std::uint64_t(a) << 32) | std::uint32_t(b));
     Searched& s = at->second;
     if (first) {
+        fresh(nodes_[a]), fresh(nodes_[b]);
         candidates_.clear();
         leafPairs(nodes_[a], nodes_[b], candidates_);
         s.begin = keptPairs_.size(), s.found = candidates_.size();
@@ -327,7 +351,7 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
 }
 
 void BroadPhase::near(const Box& box, const std::vector<std::uint8_t>& pinned, std::vector<Index>& vertices,
-                      std::vector<Index>& edges) const {
+                      std::vector<Index>& edges) {
     vertices.clear(), edges.clear();
     std::vector<int> stack = {0};
     while (!stack.empty()) {
@@ -339,6 +363,7 @@ void BroadPhase::near(const Box& box, const std::vector<std::uint8_t>& pinned, s
                 if (c >= 0) stack.push_back(c);
             continue;
         }
+        fresh(n);
         for (int r = n.r0; r < n.r1; ++r)
             for (int c = n.c0; c < n.c1; ++c) {
                 const int cell = r * (nx_ - 1) + c;

@@ -60,7 +60,7 @@ public:
     std::size_t selfPairs(std::vector<Pair>& out, std::size_t most, const Keep& keep);
     // The free vertices and mesh edges whose swept boxes reach `box`.
     void near(const Box& box, const std::vector<std::uint8_t>& pinned, std::vector<Index>& vertices,
-              std::vector<Index>& edges) const;
+              std::vector<Index>& edges);
 
     const std::vector<std::array<Index, 2>>& edges() const { return edges_; }
     std::uint64_t model() const { return model_; }
@@ -78,6 +78,7 @@ private:
     template <class F>
     void eachTriangle(const Node& node, F fn) const;
     void refitBoxes(int n);
+    void fresh(const Node& leaf);
     void refitCones(int n);
     struct Search {  // one selfPairs call
         std::vector<Pair>& out;
@@ -102,6 +103,9 @@ private:
     // Per cell: its triangles, the vertices and edges it owns.
     std::vector<std::vector<Index>> cellTriangles_, cellVertices_, cellEdges_;
     std::vector<Box> vertexBox_, edgeBox_, triangleBox_, cellBox_;
+    std::vector<std::vector<Index>> cellCorners_;  // per cell: its triangles' corners
+    std::vector<std::uint64_t> cellStamp_;         // per cell: the refit its edges' and triangles' boxes are of
+    std::uint64_t stamp_ = 0;                      // refits since prepare
     Scalar margin_ = 0;
     std::vector<Scalar> halfMove_;   // half each particle's straight move over the step (refit)
     std::vector<Scalar> reach_;      // each particle's distance from its move's midpoint, at most
