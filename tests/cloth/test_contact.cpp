@@ -225,13 +225,48 @@ TEST(Contact, AParticleSlidingRoundACapsuleIsStoppedByClothBesideItsStraightPath
     scene.capsules.push_back({Vec3(0, 0, -0.005), Vec3(0, 0, 0.005), 0.02});
     ASSERT_EQ(countCrossings(s.model, start, scene).selfEdges, 0);
     ASSERT_GT(countCrossings(s.model, s.state.x, scene).selfEdges, 0);  // straight through: the edge 14-15 crosses
-    ContactSettings set = on();
-    set.self = true;
-    ContactStage stage;
-    const ContactReport r = stage.apply(s.model, s.pinned, start, s.state, RigidFrame{}, RigidFrame{}, {pole}, set, 1.0 / 240);
-    EXPECT_GT(r.regionCuts, 0);
-    EXPECT_GT(r.passes, 0);
-    EXPECT_GT(s.state.x(1, 15), 0.01);  // it did slide up round the rod
-    EXPECT_EQ(countCrossings(s.model, s.state.x, scene).selfEdges, 0);
+    const State end = s.state;
+    for (const auto bounds : {ContactSettings::SelfBounds::Lengths, ContactSettings::SelfBounds::HalfSpaces}) {
+        ContactSettings set = on();
+        set.self = true, set.selfBounds = bounds;
+        ContactStage stage;
+        s.state = end;
+        const ContactReport r = stage.apply(s.model, s.pinned, start, s.state, RigidFrame{}, RigidFrame{}, {pole}, set, 1.0 / 240);
+        EXPECT_GT(r.regionCuts, 0);
+        EXPECT_GT(r.passes, 0);
+        EXPECT_GT(s.state.x(1, 15), 0.01);  // it did slide up round the rod
+        EXPECT_EQ(countCrossings(s.model, s.state.x, scene).selfEdges, 0);
+    }
+}
+
+TEST(Contact, LayersPressedTogetherSlideAlongEachOtherWithHalfSpaceBoundsAndAreHeldWithLengthBounds) {
+    // An 8 x 2 sheet folded over: its first three columns (pinned) lie flat, its last three 1.5 mm
+    // above them (less than the 2 mm thickness), the two between off to the side. The top layer is
+    // driven 1 cm along the layers in one step. A bound on the length of each move (0.45 times the
+    // gap less the floor, about 0.6 mm a sub-interval) holds it back; a half-space bounds only its
+    // move towards the layer below, so it slides over nine tenths of the centimetre (where it passes
+    // the lower layer's end, the direction between closest points leans back). Neither ends crossed.
+    for (const auto bounds : {ContactSettings::SelfBounds::Lengths, ContactSettings::SelfBounds::HalfSpaces}) {
+        Sheet s = sheet(8, 2, 0.14, 0.02, Vec3(0, 0, 0));
+        s.pinned.assign(16, 0);
+        for (Index i = 0; i < 16; ++i) {
+            const int c = int(i % 8), r = int(i / 8);
+            if (c <= 2) s.state.x.col(i) = Vec3(0.02 * c, 0.02 * r, 0), s.pinned[i] = 1;
+            else if (c >= 5) s.state.x.col(i) = Vec3(0.02 * (c - 5), 0.02 * r, 0.0015);
+            else s.state.x.col(i) = Vec3(0.1 + 0.02 * (c - 3), 0.02 * r, 0.05);
+        }
+        const Points start = s.state.x;
+        for (Index i = 0; i < 16; ++i)
+            if (i % 8 >= 5) s.state.x(0, i) += 0.01;
+        ContactSettings set = on();
+        set.self = true, set.selfBounds = bounds;
+        ContactStage stage;
+        stage.apply(s.model, s.pinned, start, s.state, RigidFrame{}, RigidFrame{}, {}, set, 1.0 / 240);
+        const Scalar slid = s.state.x(0, 6) - start(0, 6);  // the top layer's middle
+        if (bounds == ContactSettings::SelfBounds::HalfSpaces) EXPECT_GT(slid, 0.009);
+        else EXPECT_LT(slid, 0.005);
+        EXPECT_GE(s.state.x(2, 6), 0.0015 - 1e-12);  // pushed up if anything, never down into the layer
+        EXPECT_EQ(countCrossings(s.model, s.state.x, CrossingScene{}).selfEdges, 0);
+    }
 }
 

@@ -132,6 +132,8 @@ TEST(Scene, MalformedScenesNameFileFieldAndValue) {
         {"{" + base + R"(, "flag": {"solver": {"iterations": 2.5}}})", "flag.solver.iterations = 2.5: solver 'kangcho' parameter iterations has a bad value '2.5'"},
         {"{" + base + R"(, "flag": {"solver": {"impl": 1}}})", "flag.solver.impl = 1: solver 'kangcho' parameter impl has a bad value '1' (allowed: fast|gather|reference)"},
         {"{" + base + R"(, "flag": {"constraints": {"stretch_passes": 1.5}}})", "flag.constraints.stretch_passes = 1.5: constraint stretch_passes has a bad value '1.5'"},
+        {"{" + base + R"(, "flag": {"contact": {"self_bounds": "planes"}}})", "flag.contact.self_bounds = \"planes\": must be one of: lengths, half_spaces"},
+        {"{" + base + R"(, "flag": {"contact": {"every_substep": 1}}})", "flag.contact.every_substep = 1"},
         {"{" + base + R"(, "timing": {"physics_hz": 0}})", "timing.physics_hz = 0"},
         {"{" + base + R"(, "timing": {"fps": -60}})", "timing.fps = -60"},
         {"{" + base + R"(, "air": {"wind": [1, 2]}})", "air.wind = [1,2]: must be an array of 3"},

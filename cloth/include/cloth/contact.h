@@ -17,7 +17,10 @@
 //        each particle moves at most 0.9 times half its distance to any other part of the cloth
 //        it may meet (0.9 times the whole distance to a box): two primitives each moving less than
 //        half the gap between them cannot meet, so no edge crosses a triangle or a box during the
-//        sub-interval. Near a capsule the bound has a direction: a particle approaches the plane
+//        sub-interval. With SelfBounds::HalfSpaces a self pair bounds only each particle's move
+//        towards the other primitive, along the direction between the pair's closest points: two
+//        convex primitives lie on either side of the slab between those points, each moves less
+//        than half the slab's width towards the other, so the slab's middle plane still parts them. Near a capsule the bound has a direction: a particle approaches the plane
 //        through the capsule's closest point by at most 0.9 times its height over the capsule's
 //        surface, and slides along it freely (the capsule lies behind that plane, so nothing
 //        on the plane's side reaches it; a bound on the whole move held pressed particles still).
@@ -53,6 +56,14 @@ struct ContactSettings {
     bool self = true;          // self-contact (off for a flag that cannot fold onto itself)
     Scalar thickness = 0.005;  // m: the gap kept between two parts of the cloth, and off a capsule
     Scalar maxMove = 0.0025;   // m: the most a particle moves, relative to the carrier, in a sub-interval
+    // Inside a solver that takes substeps (small_steps): after each substep, or once after the
+    // whole step's substeps (false). Solvers without substeps run it once after the step.
+    bool everySubstep = true;
+    // How a self pair bounds its particles: the length of each one's move (Lengths), or only its
+    // move towards the other primitive, across the plane that separates them (HalfSpaces), so that
+    // layers pressed together slide along each other. Contact once over a whole tick needs it:
+    // there a length bound holds pressed layers still while the springs pull their neighbours on.
+    enum class SelfBounds : std::uint8_t { Lengths, HalfSpaces } selfBounds = SelfBounds::Lengths;
 };
 
 // What one application found and did (or several, summed: long long for a whole run's).

@@ -12,18 +12,36 @@ namespace cloth {
 using namespace contact;
 
 // Bounds from the self pairs at the current positions: every particle of a pair under kSelfShare
-// of the pair's gap less the floor. A pair that separate() did not measure is measured only if the
-// bound from its gap's lower bound could bind one of its particles' moves (len): if it cannot, the
-// exact bound, which is larger, cannot either, and the pair changes nothing.
+// of the pair's gap less the floor (boundPair). A pair that separate() did not measure is measured
+// only if the bound from its gap's lower bound could bind one of its particles' moves (len): if it
+// cannot, the exact bound, which is larger, cannot either, and the pair changes nothing.
 void ContactStage::Work::selfBounds() {
     for (std::size_t k = 0; k < pairs.size(); ++k) {
         if (!fresh[k]) {
             const Scalar longest = std::max({len[ids[k][0]], len[ids[k][1]], len[ids[k][2]], len[ids[k][3]]});
             if (kSelfShare * (gapBound(k) - floor()) >= longest + kSlack) continue;
-            measured(k, distanceNow(k));
+            const auto [distance, n] = closestNow(k);
+            measured(k, distance, n);
         }
-        const Scalar b = kSelfShare * (gap[k] - floor());
-        for (Index i : ids[k]) limit(i, b);
+        boundPair(k);
+    }
+}
+
+// Pair k's bound on its particles: the length of each one's move, or with half-spaces only its move
+// towards the other primitive: the first primitive's particles (the vertex, or the first edge's
+// ends) along the pair's direction, the second's against it. Touching pairs (no direction) hold
+// their particles where they are.
+void ContactStage::Work::boundPair(std::size_t k) {
+    const Scalar b = kSelfShare * (gap[k] - floor());
+    const auto& q = ids[k];
+    if (!halfSpaces || gap[k] <= 0) {
+        for (Index i : q) limit(i, b);
+        return;
+    }
+    const int first = pairs[k].kind == Pair::Kind::VertexTriangle ? 1 : 2;  // particles of the first primitive
+    for (int j = 0; j < 4; ++j) {
+        if (invMass[q[j]] == 0) continue;
+        keepTo(q[j], j < first ? normal[k] : Vec3(-normal[k]), b);
     }
 }
 

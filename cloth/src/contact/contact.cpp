@@ -70,12 +70,19 @@ std::array<Index, 4> ContactStage::Work::particlesOf(const Pair& p) const {
     return {e[0], e[1], f[0], f[1]};
 }
 
-// Pair k's exact distance at the current positions.
-Scalar ContactStage::Work::distanceNow(std::size_t k) const {
+// Pair k's exact distance at the current positions, and the direction from its second primitive's
+// closest point to its first's (zero where they touch).
+std::pair<Scalar, Vec3> ContactStage::Work::closestNow(std::size_t k) const {
     const auto& q = ids[k];
-    if (pairs[k].kind == Pair::Kind::VertexTriangle)
-        return contact::closestOnTriangle(y.col(q[0]), y.col(q[1]), y.col(q[2]), y.col(q[3])).distance;
-    return contact::closestSegments(y.col(q[0]), y.col(q[1]), y.col(q[2]), y.col(q[3])).distance;
+    auto direction = [](const Vec3& d, Scalar distance) { return distance > 0 ? Vec3(d / distance) : Vec3(Vec3::Zero()); };
+    if (pairs[k].kind == Pair::Kind::VertexTriangle) {
+        const auto at = contact::closestOnTriangle(y.col(q[0]), y.col(q[1]), y.col(q[2]), y.col(q[3]));
+        const Vec3 c = at.weights[0] * y.col(q[1]) + at.weights[1] * y.col(q[2]) + at.weights[2] * y.col(q[3]);
+        return {at.distance, direction(y.col(q[0]) - c, at.distance)};
+    }
+    const auto at = contact::closestSegments(y.col(q[0]), y.col(q[1]), y.col(q[2]), y.col(q[3]));
+    const Vec3 a = (1 - at.s) * y.col(q[0]) + at.s * y.col(q[1]), b = (1 - at.t) * y.col(q[2]) + at.t * y.col(q[3]);
+    return {at.distance, direction(a - b, at.distance)};
 }
 
 ContactStage::ContactStage() : broad_(std::make_unique<contact::BroadPhase>()), work_(std::make_unique<Work>()) {}
@@ -99,6 +106,7 @@ void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<st
     reachOf.resize(n);
     for (Index i = 0; i < n; ++i) reachOf[i] = (y1.col(i) - y0.col(i)).norm();
     edges = &broad.edges(), thickness = settings.thickness;
+    halfSpaces = settings.selfBounds == ContactSettings::SelfBounds::HalfSpaces;
     near.clear();
     pushed.assign(n, 0);
     auto mayPush = [&](Index i) { pushed[i] = !pinned[i]; };
@@ -137,6 +145,7 @@ bool ContactStage::Work::selfPairs(contact::BroadPhase& broad, const std::vector
         ids.clear(), gap.clear();
         for (const Pair& p : pairs) ids.push_back(particlesOf(p)), gap.push_back(p.gap);
         snap.assign(pairs.size(), {0, 0, 0, 0});
+        normal.assign(pairs.size(), Vec3::Zero());
         return true;
     }
 }

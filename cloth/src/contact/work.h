@@ -72,6 +72,8 @@ struct ContactStage::Work {
     const Model* model = nullptr;
     const std::vector<std::array<Index, 2>>* edges = nullptr;
     Scalar thickness = 0;
+    bool halfSpaces = false;                 // self pairs bound by half-spaces (ContactSettings::selfBounds)
+    std::vector<Vec3> normal;                // each self pair's direction from its second primitive to its first, when measured
 
     Points push;                   // this sub-interval's proximity pushes, at most `thickness` each
     std::vector<Scalar> reachOf;   // each particle's move over the pass
@@ -91,11 +93,12 @@ struct ContactStage::Work {
     Scalar gapBound(std::size_t k) const {
         return gap[k] - approach(k, [&](int j, Index i) { return travel[i] - snap[k][j]; });
     }
-    void measured(std::size_t k, Scalar distance) {
-        gap[k] = distance, fresh[k] = 1;
+    void measured(std::size_t k, Scalar distance, const Vec3& n) {
+        gap[k] = distance, fresh[k] = 1, normal[k] = n;
         for (int j = 0; j < 4; ++j) snap[k][j] = travel[ids[k][j]];
     }
-    Scalar distanceNow(std::size_t k) const;
+    std::pair<Scalar, Vec3> closestNow(std::size_t k) const;
+    void boundPair(std::size_t k);
     void limit(Index i, Scalar b) { bound[i] = std::min(bound[i], std::max(Scalar(0), b)); }
     // A half-space a particle's move m keeps to: m . n >= -allow (allow >= 0). A capsule lies
     // behind the plane through its closest point to a primitive, so a move that keeps to it keeps

@@ -98,6 +98,13 @@ const Configuration kPeers[] = {
     {.name = "bullet_softbody_10", .solver = "bullet_softbody:iterations=10"},
 };
 
+// With --contact, on the demo's flag: contact once per tick with half-space self bounds, in the true
+// motion (instead of after each substep) and in the paper's step (instead of length bounds).
+const Configuration kContactPerTick[] = {
+    {.name = "small_steps_paced_tick", .solver = "small_steps:max_move=0.01", .flags = {kDemo}, .contactPerTick = true},
+    {.name = "shipped_half_spaces", .shipped = true, .flags = {kDemo}, .contactPerTick = true},
+};
+
 // --quick: the reference, the shipped step (the paper's), the true motion in real time, and one
 // configuration of each other family that costs little: the paper's step without the constraints,
 // adaptive multigrid, capped BDF2 (with the air coupled), xpbd.
@@ -148,6 +155,7 @@ std::vector<Configuration> configurations(const StudyOptions& o, std::string* er
     all.insert(all.end(), std::begin(kTrueMotion), std::end(kTrueMotion));
     all.insert(all.end(), std::begin(kBlockDescent), std::end(kBlockDescent));
     all.insert(all.end(), std::begin(kPeers), std::end(kPeers));
+    if (o.contact) all.insert(all.end(), std::begin(kContactPerTick), std::end(kContactPerTick));
     if (o.quick)
         std::erase_if(all, [](const Configuration& c) {
             return std::find_if(std::begin(kQuick), std::end(kQuick), [&](const char* q) { return c.name == q; }) ==

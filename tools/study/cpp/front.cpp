@@ -84,6 +84,15 @@ public:
 
 private:
     engine::SceneConfig sceneOf(const Configuration& c) const {
+        engine::SceneConfig s = baseSceneOf(c);
+        if (c.contactPerTick && s.flag.contact.enabled) {
+            s.flag.contact.everySubstep = false;
+            s.flag.contact.selfBounds = cloth::ContactSettings::SelfBounds::HalfSpaces;
+        }
+        return s;
+    }
+
+    engine::SceneConfig baseSceneOf(const Configuration& c) const {
         const engine::SceneConfig& flag = flags_.of(flag_);
         engine::SceneConfig s = extremeScene(flag, x_, size_);
         if (c.shipped) return s;
