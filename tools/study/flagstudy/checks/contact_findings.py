@@ -58,6 +58,36 @@ def c_contact_costs(docs):
     return (f"on the drive contact multiplies the cloth's cost per frame by {demo:.1f} (the demo flag's true motion), "
             f"{stiff:.1f} (the stiff flag's) and {paper:.1f} (the paper's step), both runs beside other work")
 
+def c_contact_per_tick(docs):
+    """Contact once per tick (half-space self bounds) in the demo flag's true motion: no crossing, cheaper than
+    after every substep, but the reference's peak missed on most paths; the paper's step with half-spaces."""
+    tick = {p: row(docs, "demo", p, "small_steps_paced_tick") for p in PATHS}
+    every = {p: row(docs, "demo", p, "small_steps_paced") for p in PATHS}
+    crossed = [p for p in PATHS if tick[p]["crossings"] != "0"]
+    need(not crossed, f"{NAME}: small_steps_paced_tick crosses on {crossed} (docs: nowhere)")
+    peak = [p for p in PATHS if "peak" in tick[p]["misses"].split(";")]
+    need(len(peak) >= 6, f"{NAME}: small_steps_paced_tick misses the peak on {peak} (docs: six of seven paths)")
+    ratios = [float(every[p]["ms_per_frame"]) / float(tick[p]["ms_per_frame"]) for p in PATHS]
+    need(min(ratios) > 1.5, f"{NAME}: contact after every substep costs {min(ratios):.1f}x per tick at least (docs: over 1.5x)")
+    peaks = [float(tick[p]["peak_stretch"]) for p in peak]
+    return (f"small_steps_paced_tick: no crossing, {min(ratios):.1f}-{max(ratios):.1f}x cheaper than contact after every "
+            f"substep, but the peak missed on {len(peak)} of seven paths ({min(peaks):.0%}-{max(peaks):.0%})")
+
+
+def c_contact_at_65(docs):
+    """The drive at 65x65 with contact: no crossing; the true motion within every bound."""
+    rows = [r for r in docs.rows(NAME) if r["size"] == "65"]
+    need(rows, f"{NAME}: no row at 65x65")
+    crossed = [(r["flag"], r["config"]) for r in rows if r["crossings"] != "0"]
+    need(not crossed, f"{NAME}: at 65x65 {crossed} cross (docs: none)")
+    true = one(rows, NAME, flag="demo", path="drive", config="small_steps_paced", size="65")
+    need(not true["misses"], f"{NAME}: the demo flag's small_steps_paced at 65x65 misses {true['misses']} (docs: none)")
+    return (f"the drive at 65x65 with contact: no crossing in {len(rows)} rows; the demo flag's true motion within every "
+            f"bound ({float(true['ms_per_frame']):.0f} ms per frame)")
+
+
 CONTACT_FINDINGS = [("contact_no_crossing", c_contact_no_crossing),
+                    ("contact_per_tick", c_contact_per_tick),
+                    ("contact_at_65", c_contact_at_65),
                     ("contact_true_motion_within_bounds", c_contact_true_motion_within_bounds),
                     ("contact_costs", c_contact_costs)]
