@@ -216,7 +216,7 @@ void Cloth::SubstepHook::apply(Scalar f0, Scalar f1, const Points& xStart, State
 }
 
 bool Cloth::stepOnce(Scalar h, const std::vector<Collider>& colliders, const RigidFrame& from, const RigidFrame& to) {
-    const bool contactInside = settings_.contact.enabled && settings_.contact.everySubstep && solver_->resolvesCollisions();
+    const bool contactInside = settings_.contact.enabled && settings_.contact.substepStride > 0 && solver_->resolvesCollisions();
     if (settings_.contact.enabled && !contactInside) xStart_ = state_.x;
     StepInput input;
     input.h = h;

@@ -144,7 +144,8 @@ namespace {
 // The demo's flag at 33x33 with contact, 0.5 s on a carrier at 10 m/s turning at 0.6 rad/s
 // (its free edge folds onto the cloth), stepped by `solver` in `substeps` per 240 Hz tick: the
 // longest spring's stretch over the run, and the stages counted.
-double worstStretchWithContact(const std::string& solver, int substeps, StageCount& count, int& subintervals) {
+double worstStretchWithContact(const std::string& solver, int substeps, StageCount& count, int& subintervals,
+                               int stride = 1, long long* applications = nullptr) {
     FlagDesc f;
     f.width = 1.5, f.height = 1.0, f.mass = 0.25, f.stiffness = Stiffness{1000, 100, 5}, f.onShell = true;
     Pole pole;
@@ -163,6 +164,7 @@ double worstStretchWithContact(const std::string& solver, int substeps, StageCou
     s.implicitAir = false;
     s.substeps = substeps;
     s.contact.enabled = true;
+    s.contact.substepStride = stride;
     Cloth cloth(flagOnPole(f, pole, s.thickness), s, carrier(0));
     cloth.setObserver(&count);
     const double h = 1.0 / 240;
@@ -174,6 +176,7 @@ double worstStretchWithContact(const std::string& solver, int substeps, StageCou
             worst = std::max(worst, (cloth.state().x.col(sp.i) - cloth.state().x.col(sp.j)).norm() / sp.rest - 1);
     }
     EXPECT_EQ(cloth.failures(), 0) << solver;
+    if (applications) *applications = cloth.contactTotal().applications;
     return worst;
 }
 
@@ -197,6 +200,24 @@ TEST(Cloth, ContactAtEverySubstepKeepsAFineStepsSpringsWhole) {
     EXPECT_LT(worstStretchWithContact("small_steps:max_move=0.01", 1, smallCount, subintervals), 0.15);
     EXPECT_EQ(smallCount.contact, 0);
     EXPECT_GT(subintervals, 2 * 120);
+}
+
+TEST(Cloth, ContactAfterEveryFewSubstepsRunsThatMuchLessAndOncePerTickByTheCloth) {
+    // small_steps at 33x33 with contact after every substep, every second and once per tick
+    // (stride 0: then the cloth runs it after the step, a stage it tells the observer). Every
+    // second substep and the last: about half the applications; springs still under 15% long.
+    StageCount every, second, once;
+    int subintervals = 0;
+    long long a1 = 0, a2 = 0, a0 = 0;
+    worstStretchWithContact("small_steps:max_move=0.01", 1, every, subintervals, 1, &a1);
+    EXPECT_LT(worstStretchWithContact("small_steps:max_move=0.01", 1, second, subintervals, 2, &a2), 0.15);
+    worstStretchWithContact("small_steps:max_move=0.01", 1, once, subintervals, 0, &a0);
+    EXPECT_GT(a1, 2 * 120);  // several substeps a tick
+    EXPECT_GT(a2, 0.4 * double(a1));
+    EXPECT_LT(a2, 0.7 * double(a1));
+    EXPECT_EQ(every.contact, 0);  // inside the solver's step
+    EXPECT_EQ(once.contact, 120);
+    EXPECT_EQ(a0, 120);
 }
 
 TEST(Cloth, APaperStepFlagTeleportedOneMetreWithContactEndsNoTickCrossed) {

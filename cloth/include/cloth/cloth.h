@@ -152,6 +152,7 @@ private:
         Cloth* cloth = nullptr;
         RigidFrame from, to;
         void apply(Scalar f0, Scalar f1, const Points& xStart, State& state, Scalar h) override;
+        int stride() const override { return cloth->settings_.contact.substepStride; }
     };
     void addAir(StepInput& input);
     void collide(const std::vector<Collider>& colliders);

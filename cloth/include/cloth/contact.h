@@ -56,9 +56,10 @@ struct ContactSettings {
     bool self = true;          // self-contact (off for a flag that cannot fold onto itself)
     Scalar thickness = 0.005;  // m: the gap kept between two parts of the cloth, and off a capsule
     Scalar maxMove = 0.0025;   // m: the most a particle moves, relative to the carrier, in a sub-interval
-    // Inside a solver that takes substeps (small_steps): after each substep, or once after the
-    // whole step's substeps (false). Solvers without substeps run it once after the step.
-    bool everySubstep = true;
+    // Inside a solver that takes substeps (small_steps): after every this many substeps and after
+    // the last (the motion since the last contact at once); 0: once after the whole step. Solvers
+    // without substeps run it once after the step.
+    int substepStride = 1;
     // How a self pair bounds its particles: the length of each one's move (Lengths), or only its
     // move towards the other primitive, across the plane that separates them (HalfSpaces), so that
     // layers pressed together slide along each other. Contact once over a whole tick needs it:
@@ -68,6 +69,7 @@ struct ContactSettings {
 
 // What one application found and did (or several, summed: long long for a whole run's).
 struct ContactReport {
+    long long applications = 0;  // apply() calls: 1 for one application
     long long subintervals = 0;  // the step's motion cut into this many (over all its passes)
     long long selfPairs = 0;     // self pairs within reach (when overloaded: the broad phase's candidates)
     long long near = 0;          // vertices and edges near a solid
@@ -79,7 +81,8 @@ struct ContactReport {
     // start in the carrier's frame, which is uncrossed (the cloth moved with its carrier).
     long long overloaded = 0;
     ContactReport& operator+=(const ContactReport& r) {  // two applications' work together
-        subintervals += r.subintervals, selfPairs += r.selfPairs, near += r.near, limited += r.limited;
+        applications += r.applications, subintervals += r.subintervals, selfPairs += r.selfPairs, near += r.near;
+        limited += r.limited;
         regionCuts += r.regionCuts, passes += r.passes, overloaded += r.overloaded;
         return *this;
     }

@@ -35,6 +35,8 @@ class SubstepContact {
 public:
     virtual ~SubstepContact() = default;
     virtual void apply(Scalar from, Scalar to, const Points& xStart, State& state, Scalar h) = 0;
+    // Contact after every this many substeps (and after the last), over the motion since the last.
+    virtual int stride() const { return 1; }
 };
 
 struct StepInput {

@@ -258,6 +258,7 @@ ContactReport ContactStage::apply(const Model& model, const std::vector<std::uin
                                   State& state, const RigidFrame& from, const RigidFrame& to,
                                   const std::vector<Collider>& solids, const ContactSettings& settings, Scalar h) {
     ContactReport report;
+    report.applications = 1;
     Work& w = *work_;
     w.model = &model;
     w.toCarrier(xStart, state, from, to);

@@ -120,7 +120,8 @@ private:
     const Model* model_ = nullptr;         // the model and the pins of the step under way
     const std::vector<Pin>* pins_ = nullptr;
     State constrained_;                    // the substep's state in double for the constraints
-    SubstepContact* contact_ = nullptr;    // the step's contact, after every substep (or null)
+    SubstepContact* contact_ = nullptr;    // the step's contact, after every contact_->stride() substeps (or null)
+    int contactFrom_ = 0;                  // the substep the last contact ended
     State contactEnd_;                     // the substep's end in the world, in double, for contact
     Points contactStart_;                  // and its start
     ConstraintSet noConstraints_;
@@ -155,7 +156,7 @@ void SmallStepsSolver::load(const Model& model, const Environment& env, const St
     }
     colliders_.prepare(input.colliders, input.thickness, input.collisionSkip, origin_);
     contact_ = input.contact;
-    if (contact_) worldPositions(contactStart_);
+    if (contact_) worldPositions(contactStart_), contactFrom_ = 0;
     plan_.substeps = substepsOf(model, state, input);
     lastSubsteps_ = plan_.substeps;
     plan_.h = input.h / plan_.substeps;
@@ -236,7 +237,7 @@ void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
         }
         if (colliders_.any()) colliders_.resolve(s_, begin, end);
         if (together) meet(index);
-        if (contact_) {  // after every thread's collisions, on thread 0
+        if (contact_ && (sub % contact_->stride() == 0 || sub == plan_.substeps)) {  // after every thread's collisions, on thread 0
             if (index == 0) contactAfter(sub);
             if (together) meet(index);
         }
@@ -268,12 +269,13 @@ void SmallStepsSolver::worldState(State& out) const {
     for (Index i = 0; i < cloth_.n; ++i) out.v.col(i) = Vec3(vx[i], vy[i], vz[i]);
 }
 
-// The caller's contact over substep `sub`, in double in the world, and back (the next substep
-// starts where it left the positions, rounded to float).
+// The caller's contact over the substeps since the last contact to `sub`, in double in the world,
+// and back (the next substep starts where it left the positions, rounded to float).
 void SmallStepsSolver::contactAfter(int sub) {
     worldState(contactEnd_);
     const Scalar n = plan_.substeps;
-    contact_->apply(Scalar(sub - 1) / n, Scalar(sub) / n, contactStart_, contactEnd_, plan_.h);
+    contact_->apply(Scalar(contactFrom_) / n, Scalar(sub) / n, contactStart_, contactEnd_, plan_.h);
+    contactFrom_ = sub;
     setState(contactEnd_);
     worldPositions(contactStart_);
 }

@@ -39,7 +39,8 @@ bool writeSummary(const std::string& path, const RunFacts& f, const Profiler& pr
                                                  {"body_edges", f.crossings.worst.bodyEdges},
                                                  {"ground_particles", f.crossings.worst.groundParticles}}}};
     if (f.contactOn)
-        j["contact"] = {{"subintervals", f.contact.subintervals}, {"self_pairs", f.contact.selfPairs},
+        j["contact"] = {{"applications", f.contact.applications}, {"subintervals", f.contact.subintervals},
+                        {"self_pairs", f.contact.selfPairs},
                         {"near_solids", f.contact.near}, {"moves_limited", f.contact.limited},
                         {"region_cuts", f.contact.regionCuts}, {"extra_passes", f.contact.passes},
                         {"overloaded_steps", f.contact.overloaded}};

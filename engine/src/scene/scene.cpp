@@ -158,12 +158,12 @@ void readSolver(const JsonFields& solver, cloth::SolverConfig& config) {
 
 // "flag.contact": whether the flag's edges are kept out of the pole, the body and the flag itself.
 void readContact(const JsonFields& c, cloth::ContactSettings& contact) {
-    c.allowOnly({"enabled", "self", "thickness", "max_move", "every_substep", "self_bounds"});
+    c.allowOnly({"enabled", "self", "thickness", "max_move", "substep_stride", "self_bounds"});
     contact.enabled = c.boolean("enabled", contact.enabled);
     contact.self = c.boolean("self", contact.self);
     contact.thickness = c.number("thickness", contact.thickness, 1e-4, 0.1);
     contact.maxMove = c.number("max_move", contact.maxMove, 1e-4, 0.1);
-    contact.everySubstep = c.boolean("every_substep", contact.everySubstep);
+    contact.substepStride = c.integer("substep_stride", contact.substepStride, 0, 1000);
     using Bounds = cloth::ContactSettings::SelfBounds;
     const bool halfSpaces = contact.selfBounds == Bounds::HalfSpaces;
     contact.selfBounds = c.oneOf("self_bounds", halfSpaces ? "half_spaces" : "lengths", {"lengths", "half_spaces"}) == "half_spaces"

@@ -99,10 +99,13 @@ const Configuration kPeers[] = {
 };
 
 // With --contact, on the demo's flag: contact once per tick with half-space self bounds, in the true
-// motion (instead of after each substep) and in the paper's step (instead of length bounds).
+// motion (instead of after each substep) and in the paper's step (instead of length bounds); the
+// true motion with contact after every second substep.
 const Configuration kContactPerTick[] = {
-    {.name = "small_steps_paced_tick", .solver = "small_steps:max_move=0.01", .flags = {kDemo}, .contactPerTick = true},
-    {.name = "shipped_half_spaces", .shipped = true, .flags = {kDemo}, .contactPerTick = true},
+    {.name = "small_steps_paced_tick", .solver = "small_steps:max_move=0.01", .flags = {kDemo}, .contactStride = 0,
+     .halfSpaces = true},
+    {.name = "shipped_half_spaces", .shipped = true, .flags = {kDemo}, .contactStride = 0, .halfSpaces = true},
+    {.name = "small_steps_paced_stride2", .solver = "small_steps:max_move=0.01", .flags = {kDemo}, .contactStride = 2},
 };
 
 // --quick: the reference, the shipped step (the paper's), the true motion in real time, and one

@@ -31,9 +31,11 @@ struct Configuration {
     bool shipped = false;     // the flag's scene as it ships: its solver, constraints, substeps, rate
     std::vector<FlagKind> flags = {FlagKind::Demo, FlagKind::Stiff};
     int maxSide = 0;          // > 0: not above this side (its cost there is many frames per frame)
-    // Only with --contact: contact once after each tick, its self pairs bounded by half-spaces
-    // (cloth::ContactSettings::everySubstep false, SelfBounds::HalfSpaces).
-    bool contactPerTick = false;
+    // Only with --contact (configurations that set either): contact after every this many
+    // substeps (cloth::ContactSettings::substepStride; 0: once after each tick), and self pairs
+    // bounded by half-spaces (SelfBounds::HalfSpaces).
+    int contactStride = 1;
+    bool halfSpaces = false;
 
     bool runsOn(FlagKind flag, int side) const;
 };

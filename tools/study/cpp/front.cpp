@@ -85,9 +85,9 @@ public:
 private:
     engine::SceneConfig sceneOf(const Configuration& c) const {
         engine::SceneConfig s = baseSceneOf(c);
-        if (c.contactPerTick && s.flag.contact.enabled) {
-            s.flag.contact.everySubstep = false;
-            s.flag.contact.selfBounds = cloth::ContactSettings::SelfBounds::HalfSpaces;
+        if (s.flag.contact.enabled) {
+            s.flag.contact.substepStride = c.contactStride;
+            if (c.halfSpaces) s.flag.contact.selfBounds = cloth::ContactSettings::SelfBounds::HalfSpaces;
         }
         return s;
     }

@@ -43,7 +43,7 @@ std::string flagKey(const engine::SceneConfig& s, const engine::PoleMount& mount
     k << "collisions " << c.collisions << " " << numbers({c.thickness}) << "substeps " << c.substeps << " hz "
       << numbers({s.physicsHz}) << "\n";
     k << "contact " << c.contact.enabled << " " << c.contact.self << " " << numbers({c.contact.thickness, c.contact.maxMove});
-    if (!c.contact.everySubstep) k << "per tick ";  // (the defaults write nothing: the keys of earlier runs hold)
+    if (c.contact.substepStride != 1) k << "stride " << c.contact.substepStride << " ";  // (the defaults write nothing: the keys of earlier runs hold)
     if (c.contact.selfBounds == cloth::ContactSettings::SelfBounds::HalfSpaces) k << "half-spaces ";
     k << "sleeve " << f.onShell << "\n";
     k << "pole " << vec(mount.base) << numbers({mount.height, mount.radius}) << vec(mount.trailing) << "\n";
