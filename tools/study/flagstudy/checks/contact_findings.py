@@ -88,7 +88,38 @@ def c_contact_at_65(docs):
             f"bound ({float(true['ms_per_frame']):.0f} and {float(stiff['ms_per_frame']):.0f} ms per frame)")
 
 
+def c_contact_teleports(docs):
+    """The demo flag's teleports of 0.8-1.2 m with contact: no crossing; the true motion within every bound."""
+    rows = [r for r in docs.rows(NAME) if r["flag"] == "demo" and r["path"].startswith("teleport_") and r["path"] != "teleport_1m"]
+    jumps = sorted({r["path"] for r in rows})
+    need(len(jumps) >= 4, f"{NAME}: teleports {jumps} (docs: four besides 1 m)")
+    crossed = [(r["path"], r["config"]) for r in rows if r["crossings"] != "0"]
+    need(not crossed, f"{NAME}: {crossed} cross (docs: none)")
+    true = [r for r in rows if r["config"] == "small_steps_paced"]
+    missed = [r["path"] for r in true if r["misses"]]
+    need(len(true) == len(jumps) and not missed, f"{NAME}: small_steps_paced misses on {missed} (docs: none)")
+    paper = [r["path"] for r in rows if r["config"] == "shipped" and r["misses"]]
+    return (f"teleports {', '.join(jumps)} with contact: no crossing in {len(rows)} rows; the true motion within every "
+            f"bound on each; the paper's step misses on {paper}")
+
+
+def c_contact_every_second_substep(docs):
+    """The demo flag's true motion with contact after every second substep: no crossing, within every bound on all
+    seven paths, cheaper on the drive than after every substep."""
+    rows = {p: row(docs, "demo", p, "small_steps_paced_stride2") for p in PATHS}
+    bad = [p for p in PATHS if rows[p]["crossings"] != "0" or rows[p]["misses"] or rows[p]["stable"] != "1"]
+    need(not bad, f"{NAME}: small_steps_paced_stride2 crosses, misses or fails on {bad} (docs: on no path)")
+    drive = float(rows["drive"]["ms_per_frame"])
+    every = float(row(docs, "demo", "drive", "small_steps_paced")["ms_per_frame"])
+    need(drive < every, f"{NAME}: on the drive {drive} ms per frame against {every} after every substep (docs: less)")
+    stop = rows["stop_10g"]
+    return (f"small_steps_paced_stride2: no crossing and within every bound on all seven paths (the 10 g stop's peak "
+            f"{float(stop['peak_stretch']):.1%}); {drive:.1f} ms per frame on the drive against {every:.1f}")
+
+
 CONTACT_FINDINGS = [("contact_no_crossing", c_contact_no_crossing),
+                    ("contact_every_second_substep", c_contact_every_second_substep),
+                    ("contact_teleports", c_contact_teleports),
                     ("contact_per_tick", c_contact_per_tick),
                     ("contact_at_65", c_contact_at_65),
                     ("contact_true_motion_within_bounds", c_contact_true_motion_within_bounds),
