@@ -55,10 +55,10 @@ and in six extreme cases, every configuration against the flag's fine-step refer
                        itself), in every configuration and in their references (the front's rows
                        then answer for the model with contact; keep them in another --out);
                        without it, no contact, whatever the scenes' flag.contact says; with it
-                       four more configurations of the demo's flag: small_steps_paced_tick and
+                       more configurations: the demo flag's small_steps_paced_tick and
                        shipped_half_spaces (contact once per tick, self pairs bounded by
-                       half-spaces) and small_steps_paced_stride2 (contact after every second
-                       substep)
+                       half-spaces) and both flags' small_steps_paced_stride2 (contact after every
+                       second substep)
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
                        numbers; tools/study/study.py merge-shards joins the parts)
   --export-nvidia-newton DIR

@@ -113,8 +113,15 @@ def c_contact_every_second_substep(docs):
     every = float(row(docs, "demo", "drive", "small_steps_paced")["ms_per_frame"])
     need(drive < every, f"{NAME}: on the drive {drive} ms per frame against {every} after every substep (docs: less)")
     stop = rows["stop_10g"]
+    stiff = [r for r in docs.rows(NAME) if r["flag"] == "stiff" and r["config"] == "small_steps_paced_stride2" and r["size"] == "33"]
+    stiff_paths = [r["path"] for r in stiff]
+    need(set(stiff_paths) == set(PATHS) - {"light_particles"}, f"{NAME}: the stiff flag's stride-2 rows are on {stiff_paths} "
+         "(docs: every path but light particles)")
+    bad = [r["path"] for r in stiff if r["crossings"] != "0" or r["misses"] or r["stable"] != "1"]
+    need(not bad, f"{NAME}: the stiff flag's small_steps_paced_stride2 crosses, misses or fails on {bad} (docs: on none)")
     return (f"small_steps_paced_stride2: no crossing and within every bound on all seven paths (the 10 g stop's peak "
-            f"{float(stop['peak_stretch']):.1%}); {drive:.1f} ms per frame on the drive against {every:.1f}")
+            f"{float(stop['peak_stretch']):.1%}); {drive:.1f} ms per frame on the drive against {every:.1f}; the stiff "
+            f"flag's within every bound on the {len(stiff)} paths run")
 
 
 CONTACT_FINDINGS = [("contact_no_crossing", c_contact_no_crossing),
