@@ -20,8 +20,8 @@ void ContactStage::Work::selfBounds() {
         if (!fresh[k]) {
             const Scalar longest = std::max({len[ids[k][0]], len[ids[k][1]], len[ids[k][2]], len[ids[k][3]]});
             if (kSelfShare * (gapBound(k) - floor()) >= longest + kSlack) continue;
-            const auto [distance, n] = closestNow(k);
-            measured(k, distance, n);
+            const Closest c = closestNow(k);
+            measured(k, c.distance, c.normal);
         }
         boundPair(k);
     }

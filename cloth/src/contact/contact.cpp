@@ -70,19 +70,29 @@ std::array<Index, 4> ContactStage::Work::particlesOf(const Pair& p) const {
     return {e[0], e[1], f[0], f[1]};
 }
 
-// Pair k's exact distance at the current positions, and the direction from its second primitive's
-// closest point to its first's (zero where they touch).
-std::pair<Scalar, Vec3> ContactStage::Work::closestNow(std::size_t k) const {
+// Pair k's closest points at the current positions (Work::Closest).
+ContactStage::Work::Closest ContactStage::Work::closestNow(std::size_t k) const {
     const auto& q = ids[k];
-    auto direction = [](const Vec3& d, Scalar distance) { return distance > 0 ? Vec3(d / distance) : Vec3(Vec3::Zero()); };
+    Closest c;
     if (pairs[k].kind == Pair::Kind::VertexTriangle) {
         const auto at = contact::closestOnTriangle(y.col(q[0]), y.col(q[1]), y.col(q[2]), y.col(q[3]));
-        const Vec3 c = at.weights[0] * y.col(q[1]) + at.weights[1] * y.col(q[2]) + at.weights[2] * y.col(q[3]);
-        return {at.distance, direction(y.col(q[0]) - c, at.distance)};
+        c.distance = at.distance, c.weights = {1, -at.weights[0], -at.weights[1], -at.weights[2]};
+    } else {
+        const auto at = contact::closestSegments(y.col(q[0]), y.col(q[1]), y.col(q[2]), y.col(q[3]));
+        c.distance = at.distance, c.weights = {1 - at.s, at.s, -(1 - at.t), -at.t};
     }
-    const auto at = contact::closestSegments(y.col(q[0]), y.col(q[1]), y.col(q[2]), y.col(q[3]));
-    const Vec3 a = (1 - at.s) * y.col(q[0]) + at.s * y.col(q[1]), b = (1 - at.t) * y.col(q[2]) + at.t * y.col(q[3]);
-    return {at.distance, direction(a - b, at.distance)};
+    if (c.distance > 0) c.normal = separation(k, c, y) / c.distance;
+    return c;
+}
+
+// The first primitive's closest point less the second's, with pair k's weights c, at positions `at`
+// (the current ones: the pair's separation; the targets: where the sub-interval heads).
+Vec3 ContactStage::Work::separation(std::size_t k, const Closest& c, const Points& at) const {
+    const auto& q = ids[k];
+    const auto& w = c.weights;
+    if (pairs[k].kind == Pair::Kind::VertexTriangle)
+        return at.col(q[0]) - Vec3(-w[1] * at.col(q[1]) + -w[2] * at.col(q[2]) + -w[3] * at.col(q[3]));
+    return Vec3(w[0] * at.col(q[0]) + w[1] * at.col(q[1])) - Vec3(-w[2] * at.col(q[2]) + -w[3] * at.col(q[3]));
 }
 
 ContactStage::ContactStage() : broad_(std::make_unique<contact::BroadPhase>()), work_(std::make_unique<Work>()) {}

@@ -26,32 +26,12 @@ void ContactStage::Work::pushApart(const Index* ids, const Scalar* weights, int 
 // gap's lower bound less its approach on the way to the targets (need) clears `thickness` cannot
 // end that close and is not measured; a measured pair's gap is kept for its bounds.
 void ContactStage::Work::separate() {
-    const auto& tris = model->triangles();
     for (std::size_t k = 0; k < pairs.size(); ++k) {
-        const Pair& p = pairs[k];
         if (gapBound(k) - approach(k, [&](int, Index i) { return need[i]; }) >= thickness + kSlack) continue;
-        if (p.kind == Pair::Kind::VertexTriangle) {
-            const Triangle& t = tris[p.b];
-            const auto now = contact::closestOnTriangle(y.col(p.a), y.col(t[0]), y.col(t[1]), y.col(t[2]));
-            const Vec3 w = now.weights, c = w[0] * y.col(t[0]) + w[1] * y.col(t[1]) + w[2] * y.col(t[2]);
-            const Vec3 n = now.distance > 0 ? Vec3((y.col(p.a) - c) / now.distance) : Vec3::Zero();
-            measured(k, now.distance, n);
-            if (now.distance <= 0) continue;
-            const Vec3 ct = w[0] * target.col(t[0]) + w[1] * target.col(t[1]) + w[2] * target.col(t[2]);
-            const Index ids[4] = {p.a, t[0], t[1], t[2]};
-            const Scalar ws[4] = {1, -w[0], -w[1], -w[2]};
-            pushApart(ids, ws, 4, n, thickness - (target.col(p.a) - ct).dot(n));
-        } else {
-            const auto &e = (*edges)[p.a], &f = (*edges)[p.b];
-            const auto now = contact::closestSegments(y.col(e[0]), y.col(e[1]), y.col(f[0]), y.col(f[1]));
-            auto at = [&](const Points& q, const std::array<Index, 2>& s, Scalar u) { return Vec3((1 - u) * q.col(s[0]) + u * q.col(s[1])); };
-            const Vec3 n = now.distance > 0 ? Vec3((at(y, e, now.s) - at(y, f, now.t)) / now.distance) : Vec3::Zero();
-            measured(k, now.distance, n);
-            if (now.distance <= 0) continue;
-            const Index ids[4] = {e[0], e[1], f[0], f[1]};
-            const Scalar ws[4] = {1 - now.s, now.s, -(1 - now.t), -now.t};
-            pushApart(ids, ws, 4, n, thickness - (at(target, e, now.s) - at(target, f, now.t)).dot(n));
-        }
+        const Closest c = closestNow(k);
+        measured(k, c.distance, c.normal);
+        if (c.distance <= 0) continue;
+        pushApart(ids[k].data(), c.weights.data(), 4, c.normal, thickness - separation(k, c, target).dot(c.normal));
     }
     for (const Near& n : near) {
         if (n.solid->shape != Collider::Shape::Capsule) continue;

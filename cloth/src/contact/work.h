@@ -97,7 +97,16 @@ struct ContactStage::Work {
         gap[k] = distance, fresh[k] = 1, normal[k] = n;
         for (int j = 0; j < 4; ++j) snap[k][j] = travel[ids[k][j]];
     }
-    std::pair<Scalar, Vec3> closestNow(std::size_t k) const;
+    // A self pair's closest points: their distance, its four particles' weights in the first
+    // primitive's point less the second's (the vertex and the triangle's corners: 1, -w; the
+    // edges' ends: 1 - s, s, -(1 - t), -t), and that difference's direction (zero where they touch).
+    struct Closest {
+        Scalar distance = 0;
+        std::array<Scalar, 4> weights{};
+        Vec3 normal = Vec3::Zero();
+    };
+    Closest closestNow(std::size_t k) const;
+    Vec3 separation(std::size_t k, const Closest& c, const Points& at) const;
     void boundPair(std::size_t k);
     void limit(Index i, Scalar b) { bound[i] = std::min(bound[i], std::max(Scalar(0), b)); }
     // A half-space a particle's move m keeps to: m . n >= -allow (allow >= 0). A capsule lies
