@@ -204,11 +204,17 @@ void ContactStage::Work::straight(Scalar f) {
 // One pass: the pass's motion cut into sub-intervals of at most maxMove. True when a particle
 // reached the edge of its region and this is not the last pass: the pass stops there, its free
 // particles on their straight moves where the sub-interval ended, and the next starts from there.
+// A last pass after such a stop takes the particles no pair holds to y1 (some moved in an earlier
+// pass and are placed); in a step's only pass they stay where the solver put them.
 bool ContactStage::Work::pass(const std::vector<std::uint8_t>& pinned, const ContactSettings& settings, bool last,
                               ContactReport& report) {
     const Index n = model->particleCount();
     const Scalar reach = markActive(pinned);
-    if (moving.empty()) return straight(1), false;
+    auto done = [&] {
+        if (report.passes > 0) straight(1);
+        return false;
+    };
+    if (moving.empty()) return done();
     const int subintervals = std::clamp(int(std::ceil(reach / settings.maxMove)), 1, kMaxSubintervals);
     report.subintervals += subintervals;
     for (Index i : moving) moved[i] = 1;
@@ -221,7 +227,7 @@ bool ContactStage::Work::pass(const std::vector<std::uint8_t>& pinned, const Con
         const Scalar f = Scalar(k) / subintervals;
         if (advance(f, pinned, report) && !last) return straight(f), true;
     }
-    return straight(1), false;
+    return done();
 }
 
 // One sub-interval, to the fraction f of the pass: targets on the straight path plus the
