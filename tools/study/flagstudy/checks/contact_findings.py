@@ -115,8 +115,7 @@ def c_contact_every_second_substep(docs):
     stop = rows["stop_10g"]
     stiff = [r for r in docs.rows(NAME) if r["flag"] == "stiff" and r["config"] == "small_steps_paced_stride2" and r["size"] == "33"]
     stiff_paths = [r["path"] for r in stiff]
-    need(set(stiff_paths) == set(PATHS) - {"light_particles"}, f"{NAME}: the stiff flag's stride-2 rows are on {stiff_paths} "
-         "(docs: every path but light particles)")
+    need(set(stiff_paths) == set(PATHS), f"{NAME}: the stiff flag's stride-2 rows are on {stiff_paths} (docs: every path)")
     bad = [r["path"] for r in stiff if r["crossings"] != "0" or r["misses"] or r["stable"] != "1"]
     need(not bad, f"{NAME}: the stiff flag's small_steps_paced_stride2 crosses, misses or fails on {bad} (docs: on none)")
     return (f"small_steps_paced_stride2: no crossing and within every bound on all seven paths (the 10 g stop's peak "
@@ -124,8 +123,27 @@ def c_contact_every_second_substep(docs):
             f"flag's within every bound on the {len(stiff)} paths run")
 
 
+def c_contact_stiff_every_fourth_substep(docs):
+    """The stiff flag's true motion with contact after every fourth substep (what flag_vehicle_stiff ships): no
+    crossing, within every bound on all seven paths, cheaper than after every second on each; after every eighth
+    it fails after the teleport."""
+    four = {p: row(docs, "stiff", p, "small_steps_paced_stride4") for p in PATHS}
+    bad = [p for p in PATHS if four[p]["crossings"] != "0" or four[p]["misses"] or four[p]["stable"] != "1"]
+    need(not bad, f"{NAME}: the stiff flag's small_steps_paced_stride4 crosses, misses or fails on {bad} (docs: on none)")
+    two = {p: float(row(docs, "stiff", p, "small_steps_paced_stride2")["ms_per_frame"]) for p in PATHS}
+    dearer = [p for p in PATHS if float(four[p]["ms_per_frame"]) >= two[p]]
+    need(not dearer, f"{NAME}: every fourth substep costs no less than every second on {dearer} (docs: less on every path)")
+    teleport = row(docs, "stiff", "teleport_1m", "small_steps_paced_stride8")
+    need(teleport["stable"] == "0", f"{NAME}: every eighth substep is stable after the teleport (docs: it fails)")
+    drive = float(four["drive"]["ms_per_frame"])
+    return (f"the stiff flag's small_steps_paced_stride4: no crossing and within every bound on all seven paths, "
+            f"{drive:.1f} ms per frame on the drive against {two['drive']:.1f} after every second substep; "
+            f"small_steps_paced_stride8 fails after the 1 m teleport")
+
+
 CONTACT_FINDINGS = [("contact_no_crossing", c_contact_no_crossing),
                     ("contact_every_second_substep", c_contact_every_second_substep),
+                    ("contact_stiff_every_fourth_substep", c_contact_stiff_every_fourth_substep),
                     ("contact_teleports", c_contact_teleports),
                     ("contact_per_tick", c_contact_per_tick),
                     ("contact_at_65", c_contact_at_65),
