@@ -2,7 +2,8 @@
 """The cloth's share of a demo frame: per frame, air + cloth_forces + cloth_solve + collision +
 contact (profile.csv of a flagsim run), mean, median and 99th percentile, against a real-time
 budget, and the mean's and the median's ratios to the demo's run at the same size in the same call
-(LABEL up to "_stiff", "_true" or "_contact").
+(LABEL up to "_stiff", "_true" or "_contact") and to the same run without contact (LABEL_no_contact,
+or for LABEL_contact, LABEL).
 
     tools/bench_cloth_budget.py LABEL:BUDGET_MS:PROFILE_CSV ...
 """
@@ -20,24 +21,40 @@ def frame_sums(path):
         return [sum(float(r.get(p) or 0) for p in PHASES) for r in csv.DictReader(f)]
 
 
+def without_contact(label, labels):
+    """The row of the same run without contact: LABEL_no_contact, or for LABEL_contact, LABEL."""
+    if label + "_no_contact" in labels:
+        return label + "_no_contact"
+    if label.endswith("_contact") and not label.endswith("_no_contact"):
+        base = label[: -len("_contact")]
+        return base if base in labels else None
+    return None
+
+
 def main():
-    print("| run | frames | cloth mean (ms/frame) | cloth median | cloth p99 | budget | within | x demo (mean) | x demo (median) |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    means, medians = {}, {}
+    rows = []
     for arg in sys.argv[1:]:
         label, budget, path = arg.split(":", 2)
         sums = sorted(frame_sums(path))
         if not sums:
             sys.exit(f"{path}: no frames")
-        mean = sum(sums) / len(sums)
+        rows.append((label, float(budget), sums))
+    means = {label: sum(sums) / len(sums) for label, _, sums in rows}
+    medians = {label: statistics.median(sums) for label, _, sums in rows}
+
+    def ratio(table, label, base):
+        return f"{table[label] / table[base]:.1f}" if base in table else ""
+
+    print("| run | frames | cloth mean (ms/frame) | cloth median | cloth p99 | budget | within | x demo (mean) | "
+          "x demo (median) | x without contact (mean) | x without contact (median) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for label, budget, sums in rows:
         p99 = sums[min(len(sums) - 1, int(0.99 * len(sums)))]
-        median = statistics.median(sums)
-        means[label], medians[label] = mean, median
-        base = re.sub(r"_(stiff|true|contact).*", "", label)
-        ratio = f"{mean / means[base]:.1f}" if base in means else ""
-        ratio_median = f"{median / medians[base]:.1f}" if base in medians else ""
-        print(f"| {label} | {len(sums)} | {mean:.2f} | {median:.2f} | {p99:.2f} | {float(budget):g} | "
-              f"{'yes' if mean <= float(budget) else 'no'} | {ratio} | {ratio_median} |")
+        base = re.sub(r"_(stiff|true|contact|no_contact).*", "", label)
+        plain = without_contact(label, means)
+        print(f"| {label} | {len(sums)} | {means[label]:.2f} | {medians[label]:.2f} | {p99:.2f} | {budget:g} | "
+              f"{'yes' if means[label] <= budget else 'no'} | {ratio(means, label, base)} | {ratio(medians, label, base)} | "
+              f"{ratio(means, label, plain)} | {ratio(medians, label, plain)} |")
 
 
 if __name__ == "__main__":

@@ -45,8 +45,8 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     hd.description = demo.description;
     EXPECT_EQ(cloth::describe(hd.flag.solver), cloth::describe(demo.flag.solver));
     EXPECT_EQ(hd.subsystems, demo.subsystems);
-    // The stiff scene is the same scene with the study's stiffness, its step converged (newton,
-    // BDF2) at 60 Hz.
+    // The stiff scene is the same scene with the study's stiffness, on its true motion's integrator
+    // with contact after every fourth substep.
     const SceneConfig stiff = loadScene(kScenes + "flag_vehicle_stiff.json");
     EXPECT_EQ(stiff.subsystems, demo.subsystems);
     EXPECT_EQ(stiff.flag.nx, demo.flag.nx);
@@ -58,8 +58,11 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     EXPECT_EQ(cloth::describe(stiff.flag.solver), "small_steps:substeps=0,max_move=0.01");
     EXPECT_EQ(stiff.flag.mass, demo.flag.mass);
     EXPECT_EQ(stiff.physicsHz, 240);
-    // Apart from the flag's stiffness, its solver, its air and contact (off: contact at each of its
-    // substeps costs 65 ms per frame), the same scene as the demo's.
+    // Apart from the flag's stiffness, its solver, its air and contact (after every fourth of its
+    // substeps, four times the demo flag's: within every bound on all seven paths, where after
+    // every eighth it fails after the 1 m teleport), the same scene as the demo's.
+    EXPECT_TRUE(stiff.flag.contact.enabled && stiff.flag.contact.self);
+    EXPECT_EQ(stiff.flag.contact.substepStride, 4);
     auto file = [&](const char* name) {
         std::ifstream in(kScenes + name);
         nlohmann::json j = nlohmann::json::parse(in);
@@ -69,8 +72,8 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     };
     EXPECT_EQ(file("flag_vehicle_stiff.json"), file("flag_vehicle.json"));
     // The true-motion scene is the demo's flag, constraints and all, on small_steps paced at 1 cm
-    // per substep: the demo's scene but for the flag's solver and contact (off: at each substep it
-    // costs four times the true motion).
+    // per substep: the demo's scene but for the flag's solver and contact (after every second
+    // substep: within every bound on all seven paths at half the cost of every substep).
     const SceneConfig trueMotion = loadScene(kScenes + "flag_vehicle_true_motion.json");
     EXPECT_EQ(cloth::describe(trueMotion.flag.solver), "small_steps:substeps=0,max_move=0.01");
     EXPECT_EQ(trueMotion.flag.constraints.describe(), demo.flag.constraints.describe());
@@ -82,7 +85,9 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     }
     EXPECT_EQ(a, b);
     EXPECT_TRUE(demo.flag.contact.enabled && demo.flag.contact.self);
-    EXPECT_FALSE(trueMotion.flag.contact.enabled || stiff.flag.contact.enabled);
+    EXPECT_TRUE(trueMotion.flag.contact.enabled && trueMotion.flag.contact.self);
+    EXPECT_EQ(trueMotion.flag.contact.substepStride, 2);
+    EXPECT_EQ(demo.flag.contact.substepStride, 1);
     // The scene without contact is the demo's scene but for the flag's contact.
     nlohmann::json c = nlohmann::json::parse(std::ifstream(kScenes + "flag_vehicle_no_contact.json"));
     nlohmann::json d = nlohmann::json::parse(std::ifstream(kScenes + "flag_vehicle.json"));
