@@ -14,26 +14,6 @@ namespace {
 // the step cannot fold onto itself: 85 degrees, a margin under Volino's 90 for rounding.
 constexpr Scalar kFlat = 0.087;
 
-// A cone holding every normal a triangle takes during the step, whatever path each corner takes
-// within `reach[i]` of the midpoint of its straight move: with edges a, b at the midpoint and each
-// edge moving at most the sum of its ends' reaches (da, db), the normal a x b moves at most
-// e = da |b| + |a| db + da db, so it stays within asin(e / |a x b|) of the midpoint's normal. A
-// triangle that could flip (e >= |a x b|) holds every direction (cosHalf -1).
-struct Cone {
-    Vec3 axis = Vec3::UnitZ();
-    Scalar cosHalf = -1;
-};
-
-Cone motionCone(const Points& y0, const Points& y1, const std::vector<Scalar>& reach, const Triangle& t) {
-    auto mid = [&](int k) { return Vec3(0.5 * (y0.col(t[k]) + y1.col(t[k]))); };
-    const Vec3 a = mid(1) - mid(0), b = mid(2) - mid(0), n = a.cross(b);
-    const Scalar da = reach[t[0]] + reach[t[1]], db = reach[t[0]] + reach[t[2]];
-    const Scalar e = da * b.norm() + a.norm() * db + da * db, len = n.norm();
-    if (e >= len) return {};
-    const Scalar sine = e / len;
-    return {n / len, std::sqrt(1 - sine * sine)};
-}
-
 // The cosine of the widest angle to `axis` of a cone (c, cos of its half-angle cc): cos(t + w) =
 // cos t cos w - sin t sin w, with no inverse cosine; a sum that reaches pi holds every direction.
 Scalar widest(const Vec3& axis, const Vec3& c, Scalar cc) {
@@ -104,6 +84,13 @@ void BroadPhase::prepare(const Model& model) {
     }
     nodes_.clear();
     build(0, nx_ - 1, 0, ny_ - 1);
+    leafOrder_.clear(), leaves_.clear(), leafStart_.assign(1, 0), triangleLeaf_.assign(triangles_.size(), 0);
+    for (int n = 0; n < int(nodes_.size()); ++n) {
+        if (!nodes_[n].leaf()) continue;
+        eachTriangle(nodes_[n], [&](Index t) { leafOrder_.push_back(t), triangleLeaf_[t] = n; });
+        leaves_.push_back(n), leafStart_.push_back(leafOrder_.size());
+    }
+    leafAxis_.assign(nodes_.size(), Vec3::UnitZ());
 }
 
 int BroadPhase::build(int c0, int c1, int r0, int r1) {
@@ -149,11 +136,8 @@ void BroadPhase::widen(const Points& y0, const Points& y1, const std::vector<std
     const Index n = Index(halfMove_.size());
     reach_.resize(n);
     for (Index i = 0; i < n; ++i) reach_[i] = halfMove_[i] + (pushed.empty() || !pushed[i] ? 0 : margin_ / 2);
-    coneAxis_.resize(triangles_.size()), coneCos_.resize(triangles_.size());
-    for (std::size_t t = 0; t < triangles_.size(); ++t) {
-        const Cone c = motionCone(y0, y1, reach_, triangles_[t]);
-        coneAxis_[t] = c.axis, coneCos_[t] = c.cosHalf;
-    }
+    motionCones(y0, y1, reach_, triangles_, coneScratch_, cones_);
+    leafCones();
     refitCones(0);
 }
 
@@ -180,16 +164,27 @@ void BroadPhase::refitBoxes(int n) {
     }
 }
 
+// Each leaf's cone: its axis the normalized sum of its triangles' axes, its angle their widest
+// to it.
+void BroadPhase::leafCones() {
+    for (std::size_t j = 0; j < leaves_.size(); ++j) {
+        Vec3 sum = Vec3::Zero();
+        for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) sum += cones_.axis(std::size_t(leafOrder_[k]));
+        Node& leaf = nodes_[std::size_t(leaves_[j])];
+        leaf.axis = leafAxis_[std::size_t(leaves_[j])] = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
+    }
+    widestToAxes(cones_, leafOrder_, triangleLeaf_, leafAxis_, coneScratch_, widest_);
+    for (std::size_t j = 0; j < leaves_.size(); ++j) {
+        Scalar cosHalf = 1;
+        for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) cosHalf = std::min(cosHalf, widest_[k]);
+        nodes_[std::size_t(leaves_[j])].cosHalf = cosHalf;
+    }
+}
+
+// The nodes' cones above the leaves (leafCones).
 void BroadPhase::refitCones(int n) {
     Node& node = nodes_[n];
-    if (node.leaf()) {
-        Vec3 sum = Vec3::Zero();
-        eachTriangle(node, [&](Index t) { sum += coneAxis_[t]; });
-        node.axis = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
-        node.cosHalf = 1;
-        eachTriangle(node, [&](Index t) { node.cosHalf = std::min(node.cosHalf, widest(node.axis, coneAxis_[t], coneCos_[t])); });
-        return;
-    }
+    if (node.leaf()) return;
     bool first = true;
     for (int c : node.child) {
         if (c < 0) continue;

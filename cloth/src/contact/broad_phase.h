@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cloth/model.h"
+#include "contact/cones.h"
 
 namespace cloth::contact {
 
@@ -79,6 +80,7 @@ private:
     void eachTriangle(const Node& node, F fn) const;
     void refitBoxes(int n);
     void fresh(const Node& leaf);
+    void leafCones();
     void refitCones(int n);
     struct Search {  // one selfPairs call
         std::vector<Pair>& out;
@@ -109,8 +111,14 @@ private:
     Scalar margin_ = 0;
     std::vector<Scalar> halfMove_;   // half each particle's straight move over the step (refit)
     std::vector<Scalar> reach_;      // each particle's distance from its move's midpoint, at most
-    std::vector<Vec3> coneAxis_;     // each triangle's normal cone over the step
-    std::vector<Scalar> coneCos_;
+    Cones cones_;                    // each triangle's normal cone over the step
+    ConeScratch coneScratch_;
+    std::vector<Index> leafOrder_;   // the triangles leaf by leaf, each leaf's in eachTriangle's order
+    std::vector<int> leaves_;        // the leaves, in node order
+    std::vector<std::size_t> leafStart_;  // leaves_[j]'s triangles: leafOrder_[leafStart_[j], leafStart_[j + 1])
+    std::vector<int> triangleLeaf_;  // each triangle's leaf
+    std::vector<Vec3> leafAxis_;     // per node: a leaf's axis (the normalized sum of its triangles')
+    std::vector<Scalar> widest_;     // per leafOrder_ entry: the cosine of its cone's widest angle to its leaf's axis
     // Since the last refit: each two leaves searched (key a << 32 | b), their kept pairs in
     // keptPairs_ [begin, end) and their candidates' count.
     struct Searched {

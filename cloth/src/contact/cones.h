@@ -1,0 +1,41 @@
+#pragma once
+// The broad phase's normal cones (broad_phase.h) as loops over arrays, which the compiler
+// vectorizes: each triangle's cone over a step's motion, and each triangle's widest angle to its
+// leaf's axis. Each lane rounds as the scalar formula in the comments (the library is built
+// without contraction, simd.h), so the cones have the same bits as computed one at a time.
+
+#include <vector>
+
+#include "cloth/model.h"
+
+namespace cloth::contact {
+
+// Cones as arrays: axis (x, y, z) and the cosine of the half-angle.
+struct Cones {
+    std::vector<Scalar> x, y, z, cosHalf;
+    void resize(std::size_t n) { x.resize(n), y.resize(n), z.resize(n), cosHalf.resize(n); }
+    Vec3 axis(std::size_t i) const { return {x[i], y[i], z[i]}; }
+};
+
+// The loops' inputs, gathered into arrays (kept between calls so that they are not reallocated).
+struct ConeScratch {
+    std::vector<Scalar> mx, my, mz;                      // motionCones: each particle's midpoint
+    std::vector<Scalar> ax, ay, az, bx, by, bz, da, db;  // and each triangle's edges and reaches
+    std::vector<Scalar> cx, cy, cz, cc, ux, uy, uz;      // widestToAxes: its cone and its leaf's axis
+};
+
+// Every triangle's cone over the step from y0 to y1, whatever path each corner takes within
+// reach[i] of the midpoint of its straight move: with edges a, b at the midpoint and each edge
+// moving at most the sum of its ends' reaches (da, db), the normal a x b moves at most
+// e = da |b| + |a| db + da db, so it stays within asin(e / |a x b|) of the midpoint's normal. A
+// triangle that could flip (e >= |a x b|) holds every direction (axis +z, cosHalf -1).
+void motionCones(const Points& y0, const Points& y1, const std::vector<Scalar>& reach,
+                 const std::vector<Triangle>& triangles, ConeScratch& scratch, Cones& out);
+
+// For triangle t (in `order`), the cosine of the widest angle of its cone to the axis
+// `axes[leafOf[t]]`: cos(t + w) = cos t cos w - sin t sin w with t the angle between the axes,
+// w the cone's half-angle; -1 where the sum reaches pi. Written to widest[k] for order[k].
+void widestToAxes(const Cones& cones, const std::vector<Index>& order, const std::vector<int>& leafOf,
+                  const std::vector<Vec3>& axes, ConeScratch& scratch, std::vector<Scalar>& widest);
+
+}  // namespace cloth::contact
