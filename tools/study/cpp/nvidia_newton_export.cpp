@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cloth/air.h"
+#include "cloth/solver.h"
 #include "engine/flag/flag.h"
 #include "specs.h"
 
@@ -101,6 +102,45 @@ void exportExtremeForNvidiaNewton(const std::string& dir, const engine::SceneCon
     writeHarnessInput(dir + "/extreme_" + x.name + "_" + std::to_string(size) + ".json", j);
 }
 
+// The check of our vbd against NVIDIA Newton's VBD (study.py check --nvidia-newton): a 9x9 flag
+// of the study's stiffness on the first half second of the demo's drive, and our vbd's positions
+// at its end at each of kVbdCheckIterations. The harness runs Newton's VBD on the same model as
+// far and compares. Both take the springs' own energy (flagstudy/nvidia_newton/models.py), so at
+// enough iterations both reach backward Euler's step; at few, their orders of vertices differ.
+constexpr int kVbdCheckSize = 9, kVbdCheckSteps = 120;
+constexpr int kVbdCheckIterations[] = {10, 100};
+
+nlohmann::json vbdRuns(const Scene& scene, const cloth::Model& m, const State& start, double h) {
+    nlohmann::json runs = nlohmann::json::array();
+    for (const int iterations : kVbdCheckIterations) {
+        auto solver = cloth::makeSolver(configOf("vbd:iterations=" + std::to_string(iterations)));
+        State state = start;
+        const cloth::Environment env;  // gravity as the harness's (harnessInput), no drag
+        for (int s = 0; s < kVbdCheckSteps; ++s) {
+            cloth::StepInput in;
+            in.h = h;
+            in.pins = pinsAt(m, scene, (s + 1) * h);
+            if (solver->step(m, env, state, in).status != cloth::StepStatus::Ok) break;
+        }
+        runs.push_back({{"iterations", iterations}, {"steps", kVbdCheckSteps}, {"positions", pointsJson(state.x)}});
+    }
+    return runs;
+}
+
+void exportVbdCheck(const std::string& dir) {
+    const double h = 1.0 / 240, k = 1e4;
+    const PolePath path = drivePath(kVbdCheckSteps * h + 0.1);
+    const Scene scene{"vehicle_path", &path};
+    const cloth::HangingFlag flag = studyFlag(kVbdCheckSize, k);
+    const State start = startState(flag.model, scene);
+    nlohmann::json j = harnessInput(scene.name, kVbdCheckSize, k, h, flag.model, start.x, pinsAt(flag.model, scene, 0));
+    j["kind"] = "vbd_check";
+    j["steps"] = kVbdCheckSteps;
+    for (int s = 0; s < kVbdCheckSteps; ++s) j["pin_positions"].push_back(pinTargets(pinsAt(flag.model, scene, (s + 1) * h)));
+    j["vbd_check"] = vbdRuns(scene, flag.model, start, h);
+    writeHarnessInput(dir + "/vbd_check_" + scene.name + "_" + std::to_string(kVbdCheckSize) + ".json", j);
+}
+
 // The flag and the pole motion of one configuration, for the NVIDIA Newton harness
 // (tools/study/flagstudy/nvidia_newton_study.py): the same particles, masses, springs, triangles and pins, and every
 // pin's target at the end of every step.
@@ -132,6 +172,7 @@ int exportForNvidiaNewton(const StudyOptions& o, const std::vector<SolveErrorCon
     if (o.front)
         for (const Extreme& x : paths)
             for (const int size : at) exportExtremeForNvidiaNewton(o.exportDir, demo, x, size);
+    exportVbdCheck(o.exportDir);
     std::fprintf(stderr, "flag and pole motion written to %s\n", o.exportDir.c_str());
     return 0;
 }

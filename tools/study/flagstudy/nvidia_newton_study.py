@@ -4,7 +4,8 @@
 
 IN_DIR holds the JSON files of ``cloth_study --export-nvidia-newton DIR`` (one per configuration: the
 particles, masses, springs, triangles, pinned particles and every pin's target at the end of every
-step). Each file is run with each Newton solver (NVIDIA Newton 1.8.0 on Warp 1.19.0, CPU device,
+step), and a vbd check: our vbd's positions on a small flag after its steps, which Newton's VBD is
+checked against (nvidia_newton_vbd_check.csv beside OUT_CSV, flagstudy/nvidia_newton/vbd_check.py). Each file is run with each Newton solver (NVIDIA Newton 1.8.0 on Warp 1.19.0, CPU device,
 pins from tools/study/requirements-nvidia-newton.txt; install them in a venv, e.g. .venv-nvidia-newton)
 and gives one row of OUT_CSV, with the columns of the study's error_vs_runtime.csv less ``row``.
 
@@ -43,6 +44,7 @@ from flagstudy.nvidia_newton.load import InputError, load_case  # noqa: E402
 from flagstudy.nvidia_newton.output import write_csv  # noqa: E402
 from flagstudy.nvidia_newton.run import run_one  # noqa: E402
 from flagstudy.nvidia_newton.solvers import SolverChoice, parse_solver, split_solver_list  # noqa: E402
+from flagstudy.nvidia_newton.vbd_check import COLUMNS as VBD_CHECK_COLUMNS, vbd_check_rows  # noqa: E402
 
 
 class UsageError(Exception):
@@ -102,6 +104,7 @@ def start_warp():
 def run_all(wp, cases: list[Case], choices: list[SolverChoice]) -> tuple[list[dict], list[dict]]:
     """Every configuration with every solver: (rows, extreme-case rows), one progress line each."""
     rows, extreme_rows = [], []
+    cases = [c for c in cases if c.kind != "vbd_check"]  # write_vbd_check's
     total = len(cases) * len(choices)
     for case in cases:
         for choice in choices:
@@ -121,6 +124,19 @@ def run_all(wp, cases: list[Case], choices: list[SolverChoice]) -> tuple[list[di
     return rows, extreme_rows
 
 
+def write_vbd_check(wp, cases: list[Case], path: Path) -> None:
+    """Our vbd against Newton's VBD on every configuration that carries our positions (vbd_check.py)."""
+    rows = []
+    for case in cases:
+        with wp.ScopedDevice("cpu"):
+            rows += vbd_check_rows(case)
+    write_csv(path, rows, VBD_CHECK_COLUMNS)
+    for r in rows:
+        print(f"vbd check {r['scene']} {r['size']} at {r['iterations']} iterations: rms {r['rms_m']} m, "
+              f"max {r['max_m']} m (moved {r['moved_rms_m']} m)", file=sys.stderr)
+    print(f"nvidia_newton_study: {len(rows)} vbd check rows written to {path}", file=sys.stderr)
+
+
 def main(argv) -> int:
     """Runs on argv, the command line's arguments without the program's name."""
     args = parse_args(argv)
@@ -133,6 +149,8 @@ def main(argv) -> int:
     rows, extreme_rows = run_all(wp, cases, choices)
     write_csv(args.out_csv, rows)
     print(f"nvidia_newton_study: {len(rows)} rows written to {args.out_csv}", file=sys.stderr)
+    if any(c.name == "vbd" for c in choices):
+        write_vbd_check(wp, cases, args.out_csv.with_name("nvidia_newton_vbd_check.csv"))
     if any(c.kind == "extreme" for c in cases):
         extreme_csv = args.extreme_csv or args.out_csv.with_name("nvidia_newton_extreme.csv")
         write_csv(extreme_csv, extreme_rows, EXTREME_COLUMNS)

@@ -88,6 +88,30 @@ def check_nvidia_newton_extremes(d):
     return problems
 
 
+# Our vbd against NVIDIA Newton's VBD (flagstudy/nvidia_newton/vbd_check.py): at VBD_CONVERGED iterations both
+# reach backward Euler's step, so their positions after half a second of the drive lie within VBD_BOUND_M (rms;
+# Newton's are float32, about 1 m from the origin) while the flag moves over VBD_MOVED_M (rms). At 10 iterations
+# they lie 6 mm apart: the check tells the two implementations' orders of vertices apart.
+VBD_CONVERGED, VBD_BOUND_M, VBD_MOVED_M = 100, 1e-4, 0.1
+
+
+def check_vbd_against_nvidia_newton(d):
+    """nvidia_newton_vbd_check.csv: our vbd and Newton's VBD at VBD_CONVERGED iterations within VBD_BOUND_M of
+    each other, with the flag moving."""
+    try:
+        with open(os.path.join(d, "nvidia_newton_vbd_check.csv"), newline="") as f:
+            rows = [r for r in csv.DictReader(f) if int(r["iterations"]) == VBD_CONVERGED]
+    except (OSError, KeyError, ValueError) as e:
+        return [f"--nvidia-newton: nvidia_newton_vbd_check.csv: {e}"]
+    problems = [f"nvidia_newton_vbd_check.csv {r['scene']} {r['size']}: our vbd and Newton's VBD at {VBD_CONVERGED} "
+                f"iterations are {r['rms_m']} m apart (rms; at most {VBD_BOUND_M:g})"
+                for r in rows if not float(r["rms_m"]) <= VBD_BOUND_M]
+    if not any(float(r["moved_rms_m"]) > VBD_MOVED_M for r in rows):
+        problems.append(f"nvidia_newton_vbd_check.csv: no row at {VBD_CONVERGED} iterations whose flag moves over "
+                        f"{VBD_MOVED_M:g} m")
+    return problems
+
+
 def check_run(d, nvidia_newton):
     """A run's outputs in d: error_vs_runtime.csv's columns, solver families and scenes, the figures,
     front.csv and front.png, check_findings and check_everywhere (with nvidia_newton, NVIDIA Newton's CSVs
@@ -118,7 +142,7 @@ def check_run(d, nvidia_newton):
             nvidia_newton_rows = []
     problems += check_everywhere(rows, nvidia_newton_rows)
     if nvidia_newton:
-        problems += check_nvidia_newton_extremes(d)
+        problems += check_nvidia_newton_extremes(d) + check_vbd_against_nvidia_newton(d)
     if problems:
         sys.exit(f"{d}: " + "; ".join(problems))
     print(f"{d}: {len(rows)} rows, every column, solver family and scene present, multigrid"

@@ -1,7 +1,8 @@
 """The findings on Vertex Block Descent (vbd, docs/study.md): its two configurations of the front,
 vbd_10 (10 passes at 240 Hz) and vbd_960_5 (5 passes at 960 Hz), on both flags and all seven paths
 at 33x33, against the flags' references and beside xpbd and small_steps, every row from front.csv."""
-from flagstudy.checks.common import PATHS, front, misses_on, need, num, stable
+from flagstudy.checks.common import PATHS, front, misses_on, need, num, one, stable
+from flagstudy.checks.run_outputs import VBD_BOUND_M, VBD_CONVERGED, VBD_MOVED_M
 
 VBD = ["vbd_10", "vbd_960_5"]
 
@@ -27,4 +28,18 @@ def c_vbd_on_the_judge(docs):
             f"{cost['xpbd_960']:.1f}")
 
 
-VBD_FINDINGS = [("vbd_on_the_judge", c_vbd_on_the_judge)]
+def c_vbd_matches_nvidia_newton(docs):
+    """nvidia_newton_vbd_check.csv: our vbd and NVIDIA Newton's VBD on the same 9x9 flag on the drive's first half
+    second, within the bound at 100 iterations, far apart at 10."""
+    rows = docs.rows("nvidia_newton_vbd_check.csv")
+    converged = one(rows, "nvidia_newton_vbd_check.csv", iterations=str(VBD_CONVERGED))
+    few = one(rows, "nvidia_newton_vbd_check.csv", iterations="10")
+    rms, moved, apart = num(converged["rms_m"]), num(converged["moved_rms_m"]), num(few["rms_m"])
+    need(rms <= VBD_BOUND_M and moved > VBD_MOVED_M,
+         f"at {VBD_CONVERGED} iterations {rms} m apart, the flag moving {moved} m (docs: within {VBD_BOUND_M:g}, moving)")
+    need(apart > 10 * VBD_BOUND_M, f"at 10 iterations {apart} m apart (docs: over ten times the bound)")
+    return (f"at {VBD_CONVERGED} iterations {rms * 1e3:.3f} mm apart (rms; bound {VBD_BOUND_M * 1e3:g} mm) while the "
+            f"flag moves {moved:.2f} m; at 10 iterations {apart * 1e3:.1f} mm apart")
+
+
+VBD_FINDINGS = [("vbd_on_the_judge", c_vbd_on_the_judge), ("vbd_matches_nvidia_newton", c_vbd_matches_nvidia_newton)]

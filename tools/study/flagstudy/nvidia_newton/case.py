@@ -36,6 +36,9 @@ class Case:
     drag: float = 0.0  # linear drag rate, 1/s: f = -drag m v
     jump_at: float = -1.0  # s: when the pole jumps (teleport), else < 0
     carrier_velocity: np.ndarray | None = None  # (steps, 3): the carrier's velocity at the end of step s
+    # A vbd check (``"kind": "vbd_check"``) gives our vbd's positions after its steps:
+    # (iterations, steps, (n, 3) positions) each, for vbd_check.py.
+    vbd_check: list | None = None
 
     @property
     def n(self) -> int:

@@ -79,8 +79,13 @@ def load_case(path: Path) -> Case:
         case.jump_at = read("jump_at", float)
         case.carrier_velocity = read("carrier_velocity", points)
         check = read("air_check", lambda v: {k: points(v[k]) for k in ("positions", "velocities", "force")})
-    elif case.kind != "config":
-        raise InputError(f"{path}: field 'kind': '{case.kind}' is neither 'config' nor 'extreme'")
+    elif case.kind not in ("config", "vbd_check"):
+        raise InputError(f"{path}: field 'kind': '{case.kind}' is not 'config', 'extreme' or 'vbd_check'")
+    elif case.kind == "vbd_check":
+        if "vbd_check" not in data:
+            raise InputError(f"{path}: missing field 'vbd_check' (needed by a vbd check)")
+        case.vbd_check = read("vbd_check", lambda v: [(int(r["iterations"]), int(r["steps"]), points(r["positions"]))
+                                                     for r in v])
     check_case(case)
     if case.kind == "extreme":
         check_air_twin(case, check)
@@ -123,6 +128,11 @@ def check_case(c: Case) -> None:
         bad("velocities", f"shape {c.velocities.shape}, expected ({n}, 3)")
     if c.carrier_velocity is not None and c.carrier_velocity.shape != (c.steps, 3):
         bad("carrier_velocity", f"shape {c.carrier_velocity.shape}, expected ({c.steps}, 3)")
+    for iterations, steps, positions in c.vbd_check or []:
+        if iterations < 1 or not 0 < steps <= c.steps:
+            bad("vbd_check", f"iterations {iterations} and steps {steps} (at least 1, and 1 to {c.steps})")
+        if positions.shape != (n, 3):
+            bad("vbd_check", f"positions of shape {positions.shape}, expected ({n}, 3)")
     if c.air is not None:
         for key in ("enabled", "wind", "density", "drag_coefficient", "lift_coefficient", "friction_coefficient"):
             if key not in c.air:
