@@ -99,7 +99,7 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
         if (cloth::instability(d, flag.state(), c.point(Eigen::Vector3d(0, mount.height, 0)), limits)) r.stable = false;
     }
     r.stable = r.stable && flag.failures() == 0;
-    r.failures = flag.failures();
+    r.failures = flag.failures(), r.firstFailure = flag.firstFailure();
     std::nth_element(tickMs.begin(), tickMs.begin() + tickMs.size() / 2, tickMs.end());
     r.msPerTick = tickMs[tickMs.size() / 2];
     const std::size_t perWindow = std::size_t(std::lround(kEnergyWindow / h)), perSecond = std::size_t(std::lround(1 / h));

@@ -17,6 +17,7 @@
 // bounds (docs/study.md).
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "cloth/model.h"
@@ -33,6 +34,7 @@ constexpr std::array<int, 3> kPatchCounts = {8, 4, 16};
 struct ExtremeRun {
     bool stable = true;
     int failures = 0;
+    std::string firstFailure;  // the cloth's description of its first failed tick (cloth.h), if any
     double msPerTick = 0;  // median
     double maxStretch = 0, peakStretch = 0, p99Stretch = 0, lateStretch = 0, maxSpeed = 0;
     // The flag's kinetic energy in its carrier's frame, sum of m |v - v_carrier(x)|^2 / 2 (J): its

@@ -67,6 +67,9 @@ public:
         : flags_(flags), x_(x), size_(size), flag_(flag), trajectories_(o.trajectories && size <= o.trajectoryMaxSide),
           references_(o.references), cache_(cache) {}
 
+    // What failed in the last row's run ("" when no tick failed): for its progress line.
+    const std::string& failure() const { return failure_; }
+
     // This group's rows start with "FLAG PATH SIZE".
     std::string label() const { return std::string(flagName(flag_)) + " " + x_.name + " " + std::to_string(size_); }
 
@@ -78,6 +81,7 @@ public:
         std::optional<ExtremeRun> own;
         if (!isReference) own = runExtreme(s, extremeMount(flags_.demo), x_, false);
         const ExtremeRun& r = isReference ? ref : *own;
+        failure_ = r.failures > 0 ? std::to_string(r.failures) + " failed ticks, the first: " + r.firstFailure : "";
         const double traj = isReference ? 0.0 : trajectories_ && r.stable ? trajectoryError(s) : NAN;
         return format(index, c, s, r, ref, traj, timing);
     }
@@ -157,6 +161,7 @@ private:
     bool trajectories_, references_;
     ReferenceCache& cache_;
     std::optional<ExtremeRun> reference_;
+    std::string failure_;
 };
 
 // What the cache did for the rows just run: "reference reused", "reference computed", or "".
@@ -223,7 +228,8 @@ long runFront(const FrontPlan& plan, WorkItems& work, ReferenceCache& cache, Pro
         const auto t0 = std::chrono::steady_clock::now();
         csv << group.row(row, c, timing) << std::flush;
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const std::string note = cacheNote(before, cache.counts());
+        std::string note = cacheNote(before, cache.counts());
+        if (!group.failure().empty()) note += (note.empty() ? "" : "; ") + group.failure();
         progress.done(1, what, clockText(seconds) + (note.empty() ? "" : ", " + note));
     });
     return rows;
