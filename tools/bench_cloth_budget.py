@@ -2,8 +2,8 @@
 """The cloth's share of a demo frame: per frame, air + cloth_forces + cloth_solve + collision +
 contact (profile.csv of a flagsim run), mean, median and 99th percentile, against a real-time
 budget, and the mean's and the median's ratios to the demo's run at the same size in the same call
-(LABEL up to "_stiff", "_true" or "_contact") and to the same run without contact (LABEL_no_contact,
-or for LABEL_contact, LABEL).
+(LABEL up to "_stiff", "_true" or "_contact"), to the same run without contact (LABEL_no_contact,
+or for LABEL_contact, LABEL) and, for a LABEL with "_2threads", to the same run on one thread.
 
     tools/bench_cloth_budget.py LABEL:BUDGET_MS:PROFILE_CSV ...
 """
@@ -31,6 +31,12 @@ def without_contact(label, labels):
     return None
 
 
+def one_thread(label, labels):
+    """The same run on one thread: LABEL without "_2threads"."""
+    base = label.replace("_2threads", "")
+    return base if base != label and base in labels else None
+
+
 def main():
     rows = []
     for arg in sys.argv[1:]:
@@ -46,15 +52,17 @@ def main():
         return f"{table[label] / table[base]:.1f}" if base in table else ""
 
     print("| run | frames | cloth mean (ms/frame) | cloth median | cloth p99 | budget | within | x demo (mean) | "
-          "x demo (median) | x without contact (mean) | x without contact (median) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "x demo (median) | x without contact (mean) | x without contact (median) | x one thread (mean) | "
+          "x one thread (p99) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    p99s = {label: sums[min(len(sums) - 1, int(0.99 * len(sums)))] for label, _, sums in rows}
     for label, budget, sums in rows:
-        p99 = sums[min(len(sums) - 1, int(0.99 * len(sums)))]
         base = re.sub(r"_(stiff|true|contact|no_contact).*", "", label)
-        plain = without_contact(label, means)
-        print(f"| {label} | {len(sums)} | {means[label]:.2f} | {medians[label]:.2f} | {p99:.2f} | {budget:g} | "
+        plain, single = without_contact(label, means), one_thread(label, means)
+        print(f"| {label} | {len(sums)} | {means[label]:.2f} | {medians[label]:.2f} | {p99s[label]:.2f} | {budget:g} | "
               f"{'yes' if means[label] <= budget else 'no'} | {ratio(means, label, base)} | {ratio(medians, label, base)} | "
-              f"{ratio(means, label, plain)} | {ratio(medians, label, plain)} |")
+              f"{ratio(means, label, plain)} | {ratio(medians, label, plain)} | {ratio(means, label, single)} | "
+              f"{ratio(p99s, label, single)} |")
 
 
 if __name__ == "__main__":

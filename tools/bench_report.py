@@ -67,12 +67,15 @@ def main():
                      "true-motion scene (`flag_vehicle_true_motion`: the demo's flag on `small_steps` paced at 1 cm "
                      "per substep, contact after every second substep; `33x33_true_no_contact` the same without "
                      "contact) and of the stiff scene (`flag_vehicle_stiff`: its true motion, `small_steps` at 240 Hz, on one and two "
-                     "threads; in the full run also at 65x65, and at 129x129 on two threads); `33x33` is the demo's flag "
+                     "threads, and both again beside a busy loop on the other core (`_busy`); in the full run also at 65x65, and "
+                     "at 129x129 on two threads, without contact, beside the demo flag's true motion at 129x129 without "
+                     "contact); `33x33` is the demo's flag "
                      "without contact (`flag_vehicle_no_contact`) and `33x33_contact` the main demo (`flag_vehicle`, "
                      "with contact), on the demo's drive: air, cloth forces, solve, collision and contact per "
                      "frame from `profile.csv`, against 1 ms (33x33), 2 ms (33x33 with contact), 4 ms (65x65) and 16 ms "
                      "(129x129, the true-motion and the stiff scene). `x demo`: the row's mean and median over the "
-                     "demo's at its size, in this run; `x without contact`: over the same scene's without contact.")
+                     "demo's at its size, in this run; `x without contact`: over the same scene's without contact; "
+                     "`x one thread`: a two-thread row over the same run on one thread.")
     lines += section(os.path.join(out, "demo_frame.txt"), "The demo frame without disk writes",
                      "`flagsim --frames 300` at 1280x720 (software OpenGL through llvmpipe: render and readback "
                      "dominate).")
