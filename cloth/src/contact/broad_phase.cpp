@@ -14,13 +14,8 @@ namespace {
 // the step cannot fold onto itself: 85 degrees, a margin under Volino's 90 for rounding.
 constexpr Scalar kFlat = 0.087;
 
-// The cosine of the widest angle to `axis` of a cone (c, cos of its half-angle cc): cos(t + w) =
-// cos t cos w - sin t sin w, with no inverse cosine; a sum that reaches pi holds every direction.
-Scalar widest(const Vec3& axis, const Vec3& c, Scalar cc) {
-    const Scalar ct = std::clamp(c.dot(axis), Scalar(-1), Scalar(1)), cw = std::clamp(cc, Scalar(-1), Scalar(1));
-    if (ct <= -cw) return Scalar(-1);
-    return ct * cw - std::sqrt((1 - ct * ct) * (1 - cw * cw));
-}
+// The cosine of the widest angle to `axis` of a cone (c, cos of its half-angle cc): widestCos.
+Scalar widest(const Vec3& axis, const Vec3& c, Scalar cc) { return widestCos(c.dot(axis), cc); }
 
 // The cone holding two cones (axis, cos of half-angle): its axis the normalized sum, its angle
 // the larger of each cone's angle plus its axis's angle to the new one. In cosines, with no inverse
@@ -84,13 +79,13 @@ void BroadPhase::prepare(const Model& model) {
     }
     nodes_.clear();
     build(0, nx_ - 1, 0, ny_ - 1);
-    leafOrder_.clear(), leaves_.clear(), leafStart_.assign(1, 0), triangleLeaf_.assign(triangles_.size(), 0);
+    leafOrder_.clear(), leaves_.clear(), leafStart_.assign(1, 0);
     for (int n = 0; n < int(nodes_.size()); ++n) {
         if (!nodes_[n].leaf()) continue;
-        eachTriangle(nodes_[n], [&](Index t) { leafOrder_.push_back(t), triangleLeaf_[t] = n; });
+        eachTriangle(nodes_[n], [&](Index t) { leafOrder_.push_back(t); });
         leaves_.push_back(n), leafStart_.push_back(leafOrder_.size());
     }
-    leafAxis_.assign(nodes_.size(), Vec3::UnitZ());
+    leafAxis_.assign(leaves_.size(), Vec3::UnitZ());
 }
 
 int BroadPhase::build(int c0, int c1, int r0, int r1) {
@@ -170,10 +165,9 @@ void BroadPhase::leafCones() {
     for (std::size_t j = 0; j < leaves_.size(); ++j) {
         Vec3 sum = Vec3::Zero();
         for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) sum += cones_.axis(std::size_t(leafOrder_[k]));
-        Node& leaf = nodes_[std::size_t(leaves_[j])];
-        leaf.axis = leafAxis_[std::size_t(leaves_[j])] = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
+        nodes_[std::size_t(leaves_[j])].axis = leafAxis_[j] = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
     }
-    widestToAxes(cones_, leafOrder_, triangleLeaf_, leafAxis_, coneScratch_, widest_);
+    widestToAxes(cones_, leafOrder_, leafStart_, leafAxis_, coneScratch_, widest_);
     for (std::size_t j = 0; j < leaves_.size(); ++j) {
         Scalar cosHalf = 1;
         for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) cosHalf = std::min(cosHalf, widest_[k]);

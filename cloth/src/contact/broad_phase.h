@@ -116,8 +116,7 @@ private:
     std::vector<Index> leafOrder_;   // the triangles leaf by leaf, each leaf's in eachTriangle's order
     std::vector<int> leaves_;        // the leaves, in node order
     std::vector<std::size_t> leafStart_;  // leaves_[j]'s triangles: leafOrder_[leafStart_[j], leafStart_[j + 1])
-    std::vector<int> triangleLeaf_;  // each triangle's leaf
-    std::vector<Vec3> leafAxis_;     // per node: a leaf's axis (the normalized sum of its triangles')
+    std::vector<Vec3> leafAxis_;     // per leaves_ entry: its axis (the normalized sum of its triangles')
     std::vector<Scalar> widest_;     // per leafOrder_ entry: the cosine of its cone's widest angle to its leaf's axis
     // Since the last refit: each two leaves searched (key a << 32 | b), their kept pairs in
     // keptPairs_ [begin, end) and their candidates' count.

@@ -32,20 +32,13 @@ CLOTH_IVDEP
     }
 }
 
-// ct = clamp(c . u), cw = clamp(cc): -1 where ct <= -cw, else ct cw - sqrt((1 - ct^2)(1 - cw^2)).
+// widestCos of each entry's cone axis (c) to its group's axis (u).
 CLOTH_SIMD_CLONES void widestLoop(const ConeScratch& s, int count, Scalar* __restrict widest) {
     const Scalar *__restrict cx = s.cx.data(), *__restrict cy = s.cy.data(), *__restrict cz = s.cz.data();
     const Scalar *__restrict ux = s.ux.data(), *__restrict uy = s.uy.data(), *__restrict uz = s.uz.data();
     const Scalar* __restrict cc = s.cc.data();
 CLOTH_IVDEP
-    for (int k = 0; k < count; ++k) {
-        const Scalar dot = cx[k] * ux[k] + cy[k] * uy[k] + cz[k] * uz[k];
-        const Scalar ct = dot < -1 ? Scalar(-1) : 1 < dot ? Scalar(1) : dot;
-        const Scalar cw = cc[k] < -1 ? Scalar(-1) : 1 < cc[k] ? Scalar(1) : cc[k];
-        const bool all = ct <= -cw;
-        const Scalar product = all ? Scalar(0) : (1 - ct * ct) * (1 - cw * cw);
-        widest[k] = all ? Scalar(-1) : ct * cw - std::sqrt(product);
-    }
+    for (int k = 0; k < count; ++k) widest[k] = widestCos(cx[k] * ux[k] + cy[k] * uy[k] + cz[k] * uz[k], cc[k]);
 }
 
 }  // namespace
@@ -74,16 +67,16 @@ void motionCones(const Points& y0, const Points& y1, const std::vector<Scalar>& 
     coneLoop(s, int(n), out.x.data(), out.y.data(), out.z.data(), out.cosHalf.data());
 }
 
-void widestToAxes(const Cones& cones, const std::vector<Index>& order, const std::vector<int>& leafOf,
+void widestToAxes(const Cones& cones, const std::vector<Index>& order, const std::vector<std::size_t>& start,
                   const std::vector<Vec3>& axes, ConeScratch& s, std::vector<Scalar>& widest) {
     const std::size_t n = order.size();
     for (auto* v : {&s.cx, &s.cy, &s.cz, &s.cc, &s.ux, &s.uy, &s.uz}) v->resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-        const Index t = order[k];
-        const Vec3& u = axes[std::size_t(leafOf[t])];
-        s.cx[k] = cones.x[t], s.cy[k] = cones.y[t], s.cz[k] = cones.z[t], s.cc[k] = cones.cosHalf[t];
-        s.ux[k] = u.x(), s.uy[k] = u.y(), s.uz[k] = u.z();
-    }
+    for (std::size_t j = 0; j + 1 < start.size(); ++j)
+        for (std::size_t k = start[j]; k < start[j + 1]; ++k) {
+            const Index t = order[k];
+            s.cx[k] = cones.x[t], s.cy[k] = cones.y[t], s.cz[k] = cones.z[t], s.cc[k] = cones.cosHalf[t];
+            s.ux[k] = axes[j].x(), s.uy[k] = axes[j].y(), s.uz[k] = axes[j].z();
+        }
     widest.resize(n);
     widestLoop(s, int(n), widest.data());
 }

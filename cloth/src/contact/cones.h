@@ -4,9 +4,11 @@
 // leaf's axis. Each lane rounds as the scalar formula in the comments (the library is built
 // without contraction, simd.h), so the cones have the same bits as computed one at a time.
 
+#include <cmath>
 #include <vector>
 
 #include "cloth/model.h"
+#include "simd.h"
 
 namespace cloth::contact {
 
@@ -32,10 +34,22 @@ struct ConeScratch {
 void motionCones(const Points& y0, const Points& y1, const std::vector<Scalar>& reach,
                  const std::vector<Triangle>& triangles, ConeScratch& scratch, Cones& out);
 
-// For triangle t (in `order`), the cosine of the widest angle of its cone to the axis
-// `axes[leafOf[t]]`: cos(t + w) = cos t cos w - sin t sin w with t the angle between the axes,
-// w the cone's half-angle; -1 where the sum reaches pi. Written to widest[k] for order[k].
-void widestToAxes(const Cones& cones, const std::vector<Index>& order, const std::vector<int>& leafOf,
+// The cosine of the widest angle to an axis of a cone whose axis has the cosine `dot` to it and
+// whose half-angle has the cosine `cc`: cos(t + w) = cos t cos w - sin t sin w, with no inverse
+// cosine; -1 where the sum reaches pi (every direction). Written with selects, so that it
+// vectorizes in a loop.
+CLOTH_INLINE inline Scalar widestCos(Scalar dot, Scalar cc) {
+    const Scalar ct = dot < -1 ? Scalar(-1) : 1 < dot ? Scalar(1) : dot;
+    const Scalar cw = cc < -1 ? Scalar(-1) : 1 < cc ? Scalar(1) : cc;
+    const bool all = ct <= -cw;
+    const Scalar product = all ? Scalar(0) : (1 - ct * ct) * (1 - cw * cw);
+    return all ? Scalar(-1) : ct * cw - std::sqrt(product);
+}
+
+// The triangles in `order`, in groups: group j is order[start[j], start[j + 1]), with the axis
+// axes[j]. For order[k], the cosine of its cone's widest angle to its group's axis (widestCos),
+// written to widest[k].
+void widestToAxes(const Cones& cones, const std::vector<Index>& order, const std::vector<std::size_t>& start,
                   const std::vector<Vec3>& axes, ConeScratch& scratch, std::vector<Scalar>& widest);
 
 }  // namespace cloth::contact
