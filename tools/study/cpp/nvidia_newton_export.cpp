@@ -102,6 +102,24 @@ void exportExtremeForNvidiaNewton(const std::string& dir, const engine::SceneCon
     writeHarnessInput(dir + "/extreme_" + x.name + "_" + std::to_string(size) + ".json", j);
 }
 
+// A part-1 configuration for the NVIDIA Newton harness: the study's flag (studyFlag) of stiffness k at
+// rest on the scene's pole, and every pin's target at the end of each of `steps` steps of h.
+nlohmann::json configurationInput(const Scene& scene, const cloth::HangingFlag& flag, double k, double h, int steps) {
+    const cloth::Model& m = flag.model;
+    nlohmann::json j = harnessInput(scene.name, m.gridNx(), k, h, m, startState(m, scene).x, pinsAt(m, scene, 0));
+    j["steps"] = steps;
+    for (int s = 0; s < steps; ++s) j["pin_positions"].push_back(pinTargets(pinsAt(m, scene, (s + 1) * h)));
+    return j;
+}
+
+// The flag and the pole motion of one configuration, for the NVIDIA Newton harness
+// (tools/study/flagstudy/nvidia_newton_study.py): the same particles, masses, springs, triangles and pins, and every
+// pin's target at the end of every step.
+void exportForNvidiaNewtonRun(const std::string& dir, const Scene& scene, int n, double k, double h, double duration) {
+    const nlohmann::json j = configurationInput(scene, studyFlag(n, k), k, h, int(std::lround(duration / h)));
+    writeHarnessInput(dir + "/" + scene.name + "_" + std::to_string(n) + ".json", j);
+}
+
 // The check of our vbd against NVIDIA Newton's VBD (study.py check --nvidia-newton): a 9x9 flag
 // of the study's stiffness on the first half second of the demo's drive, and our vbd's positions
 // at its end at each of kVbdCheckIterations. The harness runs Newton's VBD on the same model as
@@ -132,29 +150,11 @@ void exportVbdCheck(const std::string& dir) {
     const PolePath path = drivePath(kVbdCheckSteps * h + 0.1);
     const Scene scene{"vehicle_path", &path};
     const cloth::HangingFlag flag = studyFlag(kVbdCheckSize, k);
-    const State start = startState(flag.model, scene);
-    nlohmann::json j = harnessInput(scene.name, kVbdCheckSize, k, h, flag.model, start.x, pinsAt(flag.model, scene, 0));
+    nlohmann::json j = configurationInput(scene, flag, k, h, kVbdCheckSteps);
     j["kind"] = "vbd_check";
-    j["steps"] = kVbdCheckSteps;
-    for (int s = 0; s < kVbdCheckSteps; ++s) j["pin_positions"].push_back(pinTargets(pinsAt(flag.model, scene, (s + 1) * h)));
-    j["vbd_check"] = vbdRuns(scene, flag.model, start, h);
+    j["vbd_check"] = vbdRuns(scene, flag.model, startState(flag.model, scene), h);
     writeHarnessInput(dir + "/vbd_check_" + scene.name + "_" + std::to_string(kVbdCheckSize) + ".json", j);
 }
-
-// The flag and the pole motion of one configuration, for the NVIDIA Newton harness
-// (tools/study/flagstudy/nvidia_newton_study.py): the same particles, masses, springs, triangles and pins, and every
-// pin's target at the end of every step.
-void exportForNvidiaNewtonRun(const std::string& dir, const Scene& scene, int n, double k, double h, double duration) {
-    const cloth::HangingFlag flag = studyFlag(n, k);
-    const cloth::Model& m = flag.model;
-    const State start = startState(m, scene);
-    const int steps = int(std::lround(duration / h));
-    nlohmann::json j = harnessInput(scene.name, n, k, h, m, start.x, pinsAt(m, scene, 0));
-    j["steps"] = steps;
-    for (int s = 0; s < steps; ++s) j["pin_positions"].push_back(pinTargets(pinsAt(m, scene, (s + 1) * h)));
-    writeHarnessInput(dir + "/" + scene.name + "_" + std::to_string(n) + ".json", j);
-}
-
 
 }  // namespace
 

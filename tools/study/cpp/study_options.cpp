@@ -57,8 +57,9 @@ and in six extreme cases, every configuration against the flag's fine-step refer
                        without it, no contact, whatever the scenes' flag.contact says; with it
                        more configurations: the demo flag's small_steps_paced_tick and
                        shipped_half_spaces (contact once per tick, self pairs bounded by
-                       half-spaces) and both flags' small_steps_paced_stride2 (contact after every
-                       second substep)
+                       half-spaces), both flags' small_steps_paced_stride2 (contact after every
+                       second substep) and the stiff flag's small_steps_paced_stride4 and
+                       small_steps_paced_stride8 (every fourth and every eighth)
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
                        numbers; tools/study/study.py merge-shards joins the parts)
   --export-nvidia-newton DIR
