@@ -9,7 +9,9 @@
 // if the first window after a spell lags too, the next spell is twice as long (up to
 // kMaxSoloSteps), so a core that stays busy costs about one lagging step per spell, and a core
 // that frees up gets its thread back within one spell. One late wait of a noisy machine, under
-// kAllowance, sends nothing solo.
+// kAllowance, sends nothing solo. Within a step, as soon as its waits exceed its work so far by
+// kAllowance (partNow), its threads part at the end of the substep and the caller ends the step
+// alone: a step of many substeps on a busy core would otherwise wait a time slice at many of them.
 
 #include <algorithm>
 #include <chrono>
@@ -33,10 +35,18 @@ public:
     void waited(Duration d) {
         if (d > kMinLag) lagged_ += d;
     }
-    // After a parallel step of `total` (the caller's wall time, its waits included).
+    // Within a parallel step, `elapsed` since it began: whether its threads part now (and from
+    // then on in this step), its waits having exceeded its work so far by kAllowance.
+    bool partNow(Duration elapsed) {
+        parted_ = parted_ || lagged_ > elapsed - lagged_ + kAllowance;
+        return parted_;
+    }
+    // After a parallel step of `total` (the caller's wall time, its waits included). A step whose
+    // threads parted lagged.
     void stepEnded(Duration total) {
         work_ += total - lagged_, windowLag_ += lagged_, lagged_ = Duration::zero();
-        const bool late = windowLag_ > work_ + kAllowance;
+        const bool late = parted_ || windowLag_ > work_ + kAllowance;
+        parted_ = false;
         if (!late && ++steps_ < kWindow) return;
         if (late) {
             spell_ = probing_ ? std::min(2 * spell_, kMaxSoloSteps) : kSoloSteps;
@@ -54,6 +64,7 @@ private:
     int solo_ = 0;           // steps still to run on one thread
     int spell_ = 0;          // the last spell's length
     bool probing_ = false;   // this window is the first after a spell
+    bool parted_ = false;    // this step's threads parted
     long spells_ = 0;
 };
 

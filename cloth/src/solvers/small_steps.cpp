@@ -3,7 +3,8 @@
 // the step: the same model as the study's fine-step reference (its explicit steps, air and
 // collisions per substep), in float SIMD on the grid's stencil (small_steps/stencil_cloth.h),
 // positions relative to the first pin so float keeps its precision anywhere in the world, on one
-// or more threads that meet twice per substep (the same bits for any count). substeps=0 picks
+// or more threads that meet twice per substep (the same bits for any count; beside a busy core
+// they part, small_steps/lag_guard.h). substeps=0 picks
 // each step's count from the stability bound (small_steps/stable_step.h) times `fraction`, and
 // with max_move > 0 enough that no pin, and no particle at its speed relative to the pole's, moves
 // more than max_move metres in a substep: as the reference paces its substeps through a teleport,
@@ -13,6 +14,7 @@
 // Grids only (Model::fromGrid's layout); on another mesh every step fails and details() says why.
 
 #include <algorithm>
+#include <atomic>
 #include <memory>
 
 #include "cloth/air.h"
@@ -95,6 +97,7 @@ private:
     void runSubsteps();
     void worker(int index, int begin, int end, bool together);
     void meet(int index);
+    bool meetAtEnd(int index);
     void constrain();
     void contactAfter(int sub);
     void setState(const State& state);
@@ -115,6 +118,8 @@ private:
     std::vector<int> ranges_;  // thread t takes particles [ranges_[t], ranges_[t + 1])
     std::unique_ptr<SpinBarrier> barrier_;
     LagGuard lag_;  // one thread for a while when a busy core keeps the other waiting
+    Clock::time_point stepStart_;    // when the parallel step under way began
+    std::atomic<bool> parting_{false};  // thread 0 ends this step alone
     std::string layoutError_;
     int lastSubsteps_ = 0;
     const Model* model_ = nullptr;         // the model and the pins of the step under way
@@ -196,12 +201,13 @@ void SmallStepsSolver::loadPins(const StepInput& input) {
 void SmallStepsSolver::runSubsteps() {
     const int threads = pool_->threads();
     if (threads == 1 || lag_.solo()) return worker(0, 0, cloth_.n, false);
-    const auto t0 = Clock::now();
+    stepStart_ = Clock::now();
+    parting_.store(false, std::memory_order_relaxed);
     pool_->run(2 * threads, [this](int begin, int) {
         const int t = begin / 2;
         worker(t, ranges_[std::size_t(t)], ranges_[std::size_t(t) + 1], true);
     });
-    lag_.stepEnded(Clock::now() - t0);
+    lag_.stepEnded(Clock::now() - stepStart_);
 }
 
 // The threads meet; thread 0's wait is judged (LagGuard; whichever thread runs it, only it writes
@@ -211,6 +217,15 @@ void SmallStepsSolver::meet(int index) {
     const auto t0 = Clock::now();
     barrier_->wait();
     lag_.waited(Clock::now() - t0);
+}
+
+// The substep's last meeting, where the threads may part (LagGuard::partNow): thread 0 decides
+// before it arrives, and the barrier that releases the others publishes the decision. True: the
+// threads go on together.
+bool SmallStepsSolver::meetAtEnd(int index) {
+    if (index == 0) parting_.store(lag_.partNow(Clock::now() - stepStart_), std::memory_order_relaxed);
+    meet(index);
+    return !parting_.load(std::memory_order_relaxed);
 }
 
 // Thread `index`'s share of every substep (particles [begin, end)): the springs and the air at its
@@ -236,10 +251,14 @@ void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
             if (together) meet(index);
         }
         if (colliders_.any()) colliders_.resolve(s_, begin, end);
-        if (together) meet(index);
-        if (contact_ && (sub % contact_->stride() == 0 || sub == plan_.substeps)) {  // after every thread's collisions, on thread 0
-            if (index == 0) contactAfter(sub);
+        const bool contactNow = contact_ && (sub % contact_->stride() == 0 || sub == plan_.substeps);
+        if (contactNow) {  // after every thread's collisions, on thread 0
             if (together) meet(index);
+            if (index == 0) contactAfter(sub);
+        }
+        if (together && !meetAtEnd(index)) {  // a busy core: thread 0 ends the step alone
+            if (index != 0) return;
+            together = false, begin = 0, end = cloth_.n;
         }
     }
 }

@@ -1,7 +1,8 @@
 // small_steps' lag guard (small_steps/lag_guard.h), fed step times and barrier waits as a busy
 // core would give them, without a clock: a window whose waits exceed its work by the allowance
 // sends the next steps to one thread; the first window after a spell that lags again doubles the
-// spell; short waits and a single late wait under the allowance send nothing solo.
+// spell; short waits and a single late wait under the allowance send nothing solo; a step whose
+// waits exceed its work so far by the allowance parts its threads there and starts a spell.
 
 #include <gtest/gtest.h>
 
@@ -68,4 +69,20 @@ TEST(LagGuard, LateWaitsAddUpWithinAWindow) {
     // 1 ms waits on 0.5 ms steps: each alone under the allowance, together over the window's work.
     for (int s = 0; s < LagGuard::kWindow && g.spells() == 0; ++s) step(g, 500, 1000);
     EXPECT_EQ(g.spells(), 1);
+}
+
+TEST(LagGuard, AStepThatWaitsLongerThanItWorksPartsItsThreadsAndStartsASpell) {
+    LagGuard g;
+    g.waited(microseconds(150));  // under kMinLag: not counted
+    EXPECT_FALSE(g.partNow(microseconds(400))) << "a step that waited under kMinLag parted";
+    g.waited(microseconds(1900));  // 1.9 ms off its core, after 0.5 ms of work: within the allowance
+    EXPECT_FALSE(g.partNow(microseconds(2550)));
+    g.waited(microseconds(4000));  // a time slice lost: 5.9 ms waited against 0.65 ms of work
+    EXPECT_TRUE(g.partNow(microseconds(6700)));
+    EXPECT_TRUE(g.partNow(microseconds(6800))) << "the threads parted for the rest of the step";
+    g.stepEnded(microseconds(9000));
+    EXPECT_EQ(g.spells(), 1) << "a step whose threads parted did not start a spell";
+    EXPECT_EQ(soloRun(g), LagGuard::kSoloSteps);
+    g.stepEnded(microseconds(1500));
+    EXPECT_FALSE(g.partNow(microseconds(0))) << "the next step began parted";
 }
