@@ -24,15 +24,24 @@ struct PassArgs {
     const Scalar* m;
     const std::uint8_t* fixed;
     Scalar scale, h;
+    std::int64_t* movedAt;  // StretchLimit::movedAt_
+    std::int64_t stamp;     // this pass's: pass * springs
+    bool everySpring;       // the first pass checks every spring
+    std::int64_t springs;
 };
 
-// Springs [begin, end) in order (Gauss-Seidel); returns the corrections.
+// Springs [begin, end) in order (Gauss-Seidel); returns the corrections. After the first pass, a
+// spring whose ends have not moved since the previous pass checked it (at stamp - springs + k) is
+// within its limit, as that check found.
 CLOTH_SIMD_CLONES int correctRange(const PassArgs& a, Index begin, Index end) {
     Scalar* x = a.x;
     Scalar* v = a.v;
+    std::int64_t* movedAt = a.movedAt;
+    const std::int64_t checked = a.stamp - a.springs;
     int count = 0;
     for (Index k = begin; k < end; ++k) {
         const Check& c = a.check[k];
+        if (!a.everySpring && movedAt[c.xi] < checked + k && movedAt[c.xj] < checked + k) continue;
         Scalar *xi = x + c.xi, *xj = x + c.xj;
         const Scalar dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
         // Most springs are within the limit: decide on squared lengths, without a square root
@@ -51,6 +60,7 @@ CLOTH_SIMD_CLONES int correctRange(const PassArgs& a, Index begin, Index end) {
         xj[0] -= wj * cx, xj[1] -= wj * cy, xj[2] -= wj * cz;
         vi[0] += ai * cx, vi[1] += ai * cy, vi[2] += ai * cz;
         vj[0] -= aj * cx, vj[1] -= aj * cy, vj[2] -= aj * cz;
+        movedAt[c.xi] = movedAt[c.xj] = a.stamp + k;
         ++count;
     }
     return count;
@@ -73,11 +83,13 @@ int StretchLimit::apply(const Model& model, const std::vector<std::uint8_t>& pin
         }
         model_ = model.id(), maxStretch_ = maxStretch;
     }
-    const PassArgs args{check_.data(), springs.data(), state.x.data(), state.v.data(), model.masses().data(),
-                        pinned.data(), scale,          h};
+    movedAt_.assign(std::size_t(3 * model.particleCount()), -1);
+    PassArgs args{check_.data(), springs.data(), state.x.data(), state.v.data(), model.masses().data(),
+                  pinned.data(), scale,          h,   movedAt_.data(), 0, true, std::int64_t(springs.size())};
     auto correct = [&](Index begin, Index end) { return correctRange(args, begin, end); };
     int corrections = 0;
     for (int pass = 0; pass < passes; ++pass) {
+        args.stamp = std::int64_t(pass) * std::int64_t(springs.size()), args.everySpring = pass == 0;
         // The blocks (on the pool's threads, which never changes a bit: they share no particle),
         // then the seam.
         std::atomic<int> inBlocks{0};

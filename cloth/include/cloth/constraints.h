@@ -12,6 +12,7 @@
 // the bands. The velocity of each moved particle changes by its correction / h, so the
 // constraint also removes the stretching velocity.
 
+#include <cstdint>
 #include <vector>
 
 #include "cloth/constraint_settings.h"
@@ -38,6 +39,11 @@ private:
     std::uint64_t model_ = 0;
     Scalar maxStretch_ = -1;
     std::vector<Check> check_;
+    // When each particle last moved in this call, as pass * springs + the spring that moved it
+    // (indexed by its first coordinate, as a Check's xi): a pass after the first checks only the
+    // springs with an end that moved since the last pass checked them. The others would find
+    // what that check found, from the same positions: nothing to correct (the same bits).
+    std::vector<std::int64_t> movedAt_;
 };
 
 // Long-range attachments (Kim, Chentanez & Mueller 2012, "Long range attachments - a method to
