@@ -220,6 +220,54 @@ TEST(Cloth, ContactAfterEveryFewSubstepsRunsThatMuchLessAndOncePerTickByTheCloth
     EXPECT_EQ(a0, 120);
 }
 
+namespace {
+
+// The demo's flag at 33x33 on small_steps paced at 1 cm, without gravity and air, at rest on a
+// carrier at 30 m/s (12.5 cm a 240 Hz tick: 13 substeps for its pins' moves), contact after every
+// substep or after every `strideMove` the cloth moves on its carrier, for `ticks` ticks; then the
+// carrier stops dead (the cloth flies on at 30 m/s relative to it). The applications of each part.
+std::pair<long long, long long> applicationsAtRestThenThrown(Scalar strideMove, int ticks) {
+    FlagDesc f;
+    f.width = 1.5, f.height = 1.0, f.mass = 0.25, f.stiffness = Stiffness{1000, 100, 5}, f.onShell = true;
+    Pole pole;
+    ClothSettings s = flagSettings("small_steps:max_move=0.01");
+    s.air = false, s.collisions = false;
+    s.environment.gravity = Vec3::Zero();
+    s.contact.enabled = true;
+    s.contact.strideMove = strideMove;
+    const auto carrier = [](double t) {
+        RigidFrame c;
+        c.position = Vec3(0, 0, 30 * t);
+        c.linearVelocity = Vec3(0, 0, 30);
+        return c;
+    };
+    Cloth cloth(flagOnPole(f, pole, s.thickness), s, carrier(0));
+    const double h = 1.0 / 240;
+    for (int k = 1; k <= ticks; ++k) cloth.step(h, carrier(k * h), {});
+    const long long atRest = cloth.contactTotal().applications;
+    RigidFrame stopped = carrier(ticks * h);
+    stopped.linearVelocity = Vec3::Zero();
+    cloth.step(h, stopped, {});
+    EXPECT_EQ(cloth.failures(), 0);
+    return {atRest, cloth.contactTotal().applications - atRest};
+}
+
+}  // namespace
+
+TEST(Cloth, ContactByMoveRunsAsOftenAsTheClothMovesOnItsCarrier) {
+    // At rest on a carrier at 30 m/s, the cloth does not move on it: contact by move runs once a
+    // tick (after the last substep), where after every substep it runs 13 times or more (the
+    // springs' stability bound may ask for more substeps than the pins' moves). When the carrier
+    // stops dead, the cloth flies 12.5 cm on it in the tick: contact after every 2 cm of that, at
+    // least 12.5 / 2 times.
+    const auto [everyAtRest, everyThrown] = applicationsAtRestThenThrown(0, 10);
+    const auto [moveAtRest, moveThrown] = applicationsAtRestThenThrown(0.02, 10);
+    EXPECT_GE(everyAtRest, 10 * 13);
+    EXPECT_EQ(moveAtRest, 10);
+    EXPECT_GE(moveThrown, 6);
+    EXPECT_LE(moveThrown, everyThrown);
+}
+
 TEST(Cloth, APaperStepFlagTeleportedOneMetreWithContactEndsNoTickCrossed) {
     // The paper's step at 25x25 with contact: the carrier jumps 1 m, so in the carrier's frame the
     // step throws the flag 1 m, and the sheet, flat at both ends of the next step, folds on the way.

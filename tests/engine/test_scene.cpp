@@ -59,10 +59,12 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     EXPECT_EQ(stiff.flag.mass, demo.flag.mass);
     EXPECT_EQ(stiff.physicsHz, 240);
     // Apart from the flag's stiffness, its solver, its air and contact (after every fourth of its
-    // substeps, four times the demo flag's: within every bound on all seven paths, where after
-    // every eighth it fails after the 1 m teleport), the same scene as the demo's.
+    // substeps, four times the demo flag's, once its fastest particle has moved 2 cm relative to the
+    // pole since the last: within every bound on all seven paths, cheaper on each than after every
+    // fourth substep alone), the same scene as the demo's.
     EXPECT_TRUE(stiff.flag.contact.enabled && stiff.flag.contact.self);
     EXPECT_EQ(stiff.flag.contact.substepStride, 4);
+    EXPECT_EQ(stiff.flag.contact.strideMove, 0.02);
     auto file = [&](const char* name) {
         std::ifstream in(kScenes + name);
         nlohmann::json j = nlohmann::json::parse(in);
@@ -140,6 +142,7 @@ TEST(Scene, MalformedScenesNameFileFieldAndValue) {
         {"{" + base + R"(, "flag": {"contact": {"self_bounds": "planes"}}})", "flag.contact.self_bounds = \"planes\": must be one of: lengths, half_spaces"},
         {"{" + base + R"(, "flag": {"contact": {"substep_stride": 1.5}}})", "flag.contact.substep_stride = 1.5"},
         {"{" + base + R"(, "flag": {"contact": {"substep_stride": -1}}})", "flag.contact.substep_stride = -1"},
+        {"{" + base + R"(, "flag": {"contact": {"stride_move": -0.01}}})", "flag.contact.stride_move = -0.01"},
         {"{" + base + R"(, "timing": {"physics_hz": 0}})", "timing.physics_hz = 0"},
         {"{" + base + R"(, "timing": {"fps": -60}})", "timing.fps = -60"},
         {"{" + base + R"(, "air": {"wind": [1, 2]}})", "air.wind = [1,2]: must be an array of 3"},

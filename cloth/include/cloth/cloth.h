@@ -153,6 +153,7 @@ private:
         RigidFrame from, to;
         void apply(Scalar f0, Scalar f1, const Points& xStart, State& state, Scalar h) override;
         int stride() const override { return cloth->settings_.contact.substepStride; }
+        Scalar strideMove() const override { return cloth->settings_.contact.strideMove; }
     };
     void addAir(StepInput& input);
     void collide(const std::vector<Collider>& colliders);

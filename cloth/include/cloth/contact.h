@@ -60,6 +60,14 @@ struct ContactSettings {
     // the last (the motion since the last contact at once); 0: once after the whole step. Solvers
     // without substeps run it once after the step.
     int substepStride = 1;
+    // m: with substepStride > 0, inside a solver whose substeps keep its particles' moves relative
+    // to the pole short (small_steps): contact after a substep only once both substepStride
+    // substeps and this move of the fastest particle relative to the pole (its speed relative to
+    // the pole's times each substep's length, summed) have passed since the last contact, and
+    // after the last. A carrier at speed takes many substeps for its pins' moves while the cloth
+    // hardly moves on it: contact then runs as often as the cloth's own motion asks. 0: by
+    // substepStride alone.
+    Scalar strideMove = 0;
     // How a self pair bounds its particles: the length of each one's move (Lengths), or only its
     // move towards the other primitive, across the plane that separates them (HalfSpaces), so that
     // layers pressed together slide along each other. Contact once over a whole tick needs it:

@@ -27,16 +27,21 @@ struct Pin {
 };
 
 // Contact at a solver's own substeps (Solver::resolvesCollisions: small_steps): the solver calls
-// apply after each substep's collisions, over that substep, from fraction `from` to `to` of the
-// step: `xStart` the positions where the substep began, `state` where it ended (world, changed in
-// place), h the substep's length. cloth::Cloth hands in its contact stage (contact.h) this way, so
-// that a solver taking many substeps per step meets contact at every one, as the reference does.
+// apply after a substep's collisions, over the substeps since the last contact, from fraction
+// `from` to `to` of the step: `xStart` the positions where they began, `state` where they ended
+// (world, changed in place), h the last substep's length: a correction changes a velocity by
+// correction / h, as a position-based step's velocity is its last move over its length.
+// cloth::Cloth hands in its contact stage (contact.h) this way, so that a solver taking many
+// substeps per step meets contact at every one, or every few, as the reference does at every one.
 class SubstepContact {
 public:
     virtual ~SubstepContact() = default;
     virtual void apply(Scalar from, Scalar to, const Points& xStart, State& state, Scalar h) = 0;
     // Contact after every this many substeps (and after the last), over the motion since the last.
     virtual int stride() const { return 1; }
+    // > 0: and only once the fastest particle has also moved this far relative to the pole since
+    // the last contact (m; ContactSettings::strideMove).
+    virtual Scalar strideMove() const { return 0; }
 };
 
 struct StepInput {

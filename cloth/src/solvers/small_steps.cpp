@@ -98,6 +98,8 @@ private:
     void worker(int index, int begin, int end, bool together);
     void meet(int index);
     bool meetAtEnd(int index);
+    float fastestRelative(int begin, int end) const;
+    bool contactDue(int sub, bool together, Scalar& since, int& last) const;
     void constrain();
     void contactAfter(int sub);
     void setState(const State& state);
@@ -120,6 +122,9 @@ private:
     LagGuard lag_;  // one thread for a while when a busy core keeps the other waiting
     Clock::time_point stepStart_;    // when the parallel step under way began
     std::atomic<bool> parting_{false};  // thread 0 ends this step alone
+    Scalar moveStride_ = 0;             // contact after this move relative to the pole (0: by stride())
+    float poleV_[3] = {0, 0, 0};        // the pole's velocity over the step
+    std::vector<float> fastest_;        // per thread: its particles' largest squared speed relative to the pole
     std::string layoutError_;
     int lastSubsteps_ = 0;
     const Model* model_ = nullptr;         // the model and the pins of the step under way
@@ -161,6 +166,10 @@ void SmallStepsSolver::load(const Model& model, const Environment& env, const St
     }
     colliders_.prepare(input.colliders, input.thickness, input.collisionSkip, origin_);
     contact_ = input.contact;
+    moveStride_ = contact_ ? contact_->strideMove() : 0;
+    fastest_.assign(std::size_t(pool_->threads()), 0.0f);
+    const Vec3 pv = poleVelocity(input);
+    poleV_[0] = float(pv.x()), poleV_[1] = float(pv.y()), poleV_[2] = float(pv.z());
     if (contact_) worldPositions(contactStart_), contactFrom_ = 0;
     plan_.substeps = substepsOf(model, state, input);
     lastSubsteps_ = plan_.substeps;
@@ -232,6 +241,8 @@ bool SmallStepsSolver::meetAtEnd(int index) {
 // slots, then, once every thread's are done, its particles' integration, the constraints (on
 // thread 0) and its particles' collisions. Alone (together false) it takes every particle.
 void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
+    Scalar since = 0;  // the fastest particle's move relative to the pole since the last contact
+    int last = 0;      // the substep the last contact followed
     for (int sub = 1; sub <= plan_.substeps; ++sub) {
         if (index == 0) {
             const Scalar along = Scalar(sub) / plan_.substeps;
@@ -251,16 +262,42 @@ void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
             if (together) meet(index);
         }
         if (colliders_.any()) colliders_.resolve(s_, begin, end);
-        const bool contactNow = contact_ && (sub % contact_->stride() == 0 || sub == plan_.substeps);
-        if (contactNow) {  // after every thread's collisions, on thread 0
-            if (together) meet(index);
-            if (index == 0) contactAfter(sub);
-        }
+        if (contact_ && moveStride_ > 0) fastest_[std::size_t(index)] = fastestRelative(begin, end);
         if (together && !meetAtEnd(index)) {  // a busy core: thread 0 ends the step alone
             if (index != 0) return;
             together = false, begin = 0, end = cloth_.n;
         }
+        if (contact_ && contactDue(sub, together, since, last)) {  // after every thread's collisions, on thread 0
+            if (index == 0) contactAfter(sub);
+            if (together) meet(index);
+        }
     }
+}
+
+// The largest squared speed of particles [begin, end) relative to the pole.
+float SmallStepsSolver::fastestRelative(int begin, int end) const {
+    const float *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
+    float most = 0;
+    for (int i = begin; i < end; ++i) {
+        const float dx = vx[i] - poleV_[0], dy = vy[i] - poleV_[1], dz = vz[i] - poleV_[2];
+        most = std::max(most, dx * dx + dy * dy + dz * dz);
+    }
+    return most;
+}
+
+// Whether contact runs after substep `sub`: after its last, and after every stride() substeps; with
+// a move stride, only once the fastest particle relative to the pole has also moved that far since
+// the last contact (`since` and `last`, each thread's own copies: the same arithmetic on the same
+// data).
+bool SmallStepsSolver::contactDue(int sub, bool together, Scalar& since, int& last) const {
+    if (moveStride_ <= 0) return sub % contact_->stride() == 0 || sub == plan_.substeps;
+    float most = fastest_[0];
+    if (together)
+        for (float f : fastest_) most = std::max(most, f);
+    since += std::sqrt(Scalar(most)) * plan_.h;
+    if (sub != plan_.substeps && (sub - last < contact_->stride() || since < moveStride_)) return false;
+    since = 0, last = sub;
+    return true;
 }
 
 // A state in the world, in double, into the float fields: positions relative to the origin.
@@ -289,7 +326,8 @@ void SmallStepsSolver::worldState(State& out) const {
 }
 
 // The caller's contact over the substeps since the last contact to `sub`, in double in the world,
-// and back (the next substep starts where it left the positions, rounded to float).
+// and back (the next substep starts where it left the positions, rounded to float). Its
+// corrections change the velocities by correction / the last substep's length (SubstepContact).
 void SmallStepsSolver::contactAfter(int sub) {
     worldState(contactEnd_);
     const Scalar n = plan_.substeps;

@@ -158,7 +158,7 @@ void readSolver(const JsonFields& solver, cloth::SolverConfig& config) {
 
 // "flag.contact": whether the flag's edges are kept out of the pole, the body and the flag itself.
 void readContact(const JsonFields& c, cloth::ContactSettings& contact) {
-    c.allowOnly({"enabled", "self", "thickness", "max_move", "substep_stride", "self_bounds"});
+    c.allowOnly({"enabled", "self", "thickness", "max_move", "substep_stride", "self_bounds", "stride_move"});
     contact.enabled = c.boolean("enabled", contact.enabled);
     contact.self = c.boolean("self", contact.self);
     contact.thickness = c.number("thickness", contact.thickness, 1e-4, 0.1);
@@ -169,6 +169,7 @@ void readContact(const JsonFields& c, cloth::ContactSettings& contact) {
     contact.selfBounds = c.oneOf("self_bounds", halfSpaces ? "half_spaces" : "lengths", {"lengths", "half_spaces"}) == "half_spaces"
                              ? Bounds::HalfSpaces
                              : Bounds::Lengths;
+    contact.strideMove = c.number("stride_move", contact.strideMove, 0, 1);
 }
 
 // "flag": its grid, size, mass, stiffness, solver, drag, collision margin and substeps.

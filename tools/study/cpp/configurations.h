@@ -31,10 +31,12 @@ struct Configuration {
     bool shipped = false;     // the flag's scene as it ships: its solver, constraints, substeps, rate
     std::vector<FlagKind> flags = {FlagKind::Demo, FlagKind::Stiff};
     int maxSide = 0;          // > 0: not above this side (its cost there is many frames per frame)
-    // Only with --contact (configurations that set either): contact after every this many
-    // substeps (cloth::ContactSettings::substepStride; 0: once after each tick), and self pairs
+    // Only with --contact (configurations that set any): contact after every this many substeps
+    // (cloth::ContactSettings::substepStride; 0: once after each tick), or after this move of the
+    // fastest particle relative to the pole (m; ContactSettings::strideMove), and self pairs
     // bounded by half-spaces (SelfBounds::HalfSpaces).
     int contactStride = 1;
+    double contactStrideMove = 0;
     bool halfSpaces = false;
 
     bool runsOn(FlagKind flag, int side) const;

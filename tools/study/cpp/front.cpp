@@ -91,6 +91,7 @@ private:
         engine::SceneConfig s = baseSceneOf(c);
         if (s.flag.contact.enabled) {
             s.flag.contact.substepStride = c.contactStride;
+            s.flag.contact.strideMove = c.contactStrideMove;
             if (c.halfSpaces) s.flag.contact.selfBounds = cloth::ContactSettings::SelfBounds::HalfSpaces;
         }
         return s;

@@ -45,6 +45,7 @@ std::string flagKey(const engine::SceneConfig& s, const engine::PoleMount& mount
     k << "contact " << c.contact.enabled << " " << c.contact.self << " " << numbers({c.contact.thickness, c.contact.maxMove});
     if (c.contact.substepStride != 1) k << "stride " << c.contact.substepStride << " ";  // (the defaults write nothing: the keys of earlier runs hold)
     if (c.contact.selfBounds == cloth::ContactSettings::SelfBounds::HalfSpaces) k << "half-spaces ";
+    if (c.contact.strideMove != 0) k << "stride-move " << numbers({c.contact.strideMove});
     k << "sleeve " << f.onShell << "\n";
     k << "pole " << vec(mount.base) << numbers({mount.height, mount.radius}) << vec(mount.trailing) << "\n";
     return k.str();

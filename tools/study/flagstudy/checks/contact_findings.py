@@ -127,9 +127,8 @@ def c_contact_every_second_substep(docs):
 
 
 def c_contact_stiff_every_fourth_substep(docs):
-    """The stiff flag's true motion with contact after every fourth substep (what flag_vehicle_stiff ships): no
-    crossing, within every bound on all seven paths, cheaper than after every second on each; after every eighth
-    it fails after the teleport."""
+    """The stiff flag's true motion with contact after every fourth substep: no crossing, within every bound on all
+    seven paths, cheaper than after every second on each; after every eighth it fails after the teleport."""
     four = {p: row(docs, "stiff", p, "small_steps_paced_stride4") for p in PATHS}
     bad = failing_paths(docs, "stiff", "small_steps_paced_stride4")
     need(not bad, f"{NAME}: the stiff flag's small_steps_paced_stride4 crosses, misses or fails on {bad} (docs: on none)")
@@ -144,9 +143,30 @@ def c_contact_stiff_every_fourth_substep(docs):
             f"small_steps_paced_stride8 fails after the 1 m teleport")
 
 
+def c_contact_by_move(docs):
+    """Contact at each flag's stride only once the fastest particle has also moved 2 cm relative to the pole: the
+    stiff flag's (what flag_vehicle_stiff ships) no crossing, within every bound on all seven paths and cheaper than
+    after every fourth substep alone on each; the demo flag's fails at 50 m/s and in the 10 g stop."""
+    stiff, four = "small_steps_paced_stride4_move2cm", "small_steps_paced_stride4"
+    bad = failing_paths(docs, "stiff", stiff)
+    need(not bad, f"{NAME}: the stiff flag's {stiff} crosses, misses or fails on {bad} (docs: on none)")
+    ms = {p: (float(row(docs, "stiff", p, stiff)["ms_per_frame"]), float(row(docs, "stiff", p, four)["ms_per_frame"]))
+          for p in PATHS}
+    dearer = [p for p in PATHS if ms[p][0] >= ms[p][1]]
+    need(not dearer, f"{NAME}: {stiff} costs no less than {four} on {dearer} (docs: less on every path)")
+    demo = failing_paths(docs, "demo", "small_steps_paced_stride2_move2cm")
+    need(demo == ["speed_50mps", "stop_10g"], f"{NAME}: the demo flag's small_steps_paced_stride2_move2cm fails on {demo} "
+         f"(docs: at 50 m/s and in the 10 g stop)")
+    ratios = sorted(a / b for a, b in ms.values())
+    return (f"the stiff flag's {stiff}: no crossing and within every bound on all seven paths at {ratios[0]:.2f}-"
+            f"{ratios[-1]:.2f} times the cost of {four} ({ms['drive'][0]:.1f} against {ms['drive'][1]:.1f} ms per frame "
+            f"on the drive); the demo flag's small_steps_paced_stride2_move2cm fails at 50 m/s and in the 10 g stop")
+
+
 CONTACT_FINDINGS = [("contact_no_crossing", c_contact_no_crossing),
                     ("contact_every_second_substep", c_contact_every_second_substep),
                     ("contact_stiff_every_fourth_substep", c_contact_stiff_every_fourth_substep),
+                    ("contact_by_move", c_contact_by_move),
                     ("contact_teleports", c_contact_teleports),
                     ("contact_per_tick", c_contact_per_tick),
                     ("contact_at_65", c_contact_at_65),
