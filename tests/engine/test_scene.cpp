@@ -75,7 +75,8 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     EXPECT_EQ(file("flag_vehicle_stiff.json"), file("flag_vehicle.json"));
     // The true-motion scene is the demo's flag, constraints and all, on small_steps paced at 1 cm
     // per substep: the demo's scene but for the flag's solver and contact (after every second
-    // substep: within every bound on all seven paths at half the cost of every substep).
+    // substep once its fastest particle has moved 1 cm on the pole: within every bound on all
+    // seven paths; 2 cm fails at 50 m/s).
     const SceneConfig trueMotion = loadScene(kScenes + "flag_vehicle_true_motion.json");
     EXPECT_EQ(cloth::describe(trueMotion.flag.solver), "small_steps:substeps=0,max_move=0.01");
     EXPECT_EQ(trueMotion.flag.constraints.describe(), demo.flag.constraints.describe());
@@ -89,6 +90,7 @@ TEST(Scene, ShippedScenesLoadWithTheirSubsystems) {
     EXPECT_TRUE(demo.flag.contact.enabled && demo.flag.contact.self);
     EXPECT_TRUE(trueMotion.flag.contact.enabled && trueMotion.flag.contact.self);
     EXPECT_EQ(trueMotion.flag.contact.substepStride, 2);
+    EXPECT_EQ(trueMotion.flag.contact.strideMove, 0.01);
     EXPECT_EQ(demo.flag.contact.substepStride, 1);
     // The scene without contact is the demo's scene but for the flag's contact.
     nlohmann::json c = nlohmann::json::parse(std::ifstream(kScenes + "flag_vehicle_no_contact.json"));

@@ -100,10 +100,11 @@ const Configuration kPeers[] = {
 
 // With --contact: on the demo's flag, contact once per tick with half-space self bounds, in the true
 // motion (instead of after each substep) and in the paper's step (instead of length bounds); on both
-// flags, the true motion with contact after every second substep (what the true-motion scene
-// ships); on the stiff flag, after every fourth and every eighth; and each flag's stride only once the
-// fastest particle has also moved 2 cm relative to the pole since the last contact (what the stiff
-// scene ships).
+// flags, the true motion with contact after every second substep; on the stiff flag, after every
+// fourth and every eighth; and each flag's stride only once the fastest particle has also moved so
+// far relative to the pole since the last contact: the demo flag's every second substep and 1 cm
+// (what the true-motion scene ships) or 2 cm, the stiff flag's every fourth and 2 cm (what the
+// stiff scene ships).
 const Configuration kContactPerTick[] = {
     {.name = "small_steps_paced_tick", .solver = "small_steps:max_move=0.01", .flags = {kDemo}, .contactStride = 0,
      .halfSpaces = true},
@@ -113,6 +114,8 @@ const Configuration kContactPerTick[] = {
     {.name = "small_steps_paced_stride8", .solver = "small_steps:max_move=0.01", .flags = {FlagKind::Stiff}, .contactStride = 8},
     {.name = "small_steps_paced_stride2_move2cm", .solver = "small_steps:max_move=0.01", .flags = {kDemo}, .contactStride = 2,
      .contactStrideMove = 0.02},
+    {.name = "small_steps_paced_stride2_move1cm", .solver = "small_steps:max_move=0.01", .flags = {kDemo}, .contactStride = 2,
+     .contactStrideMove = 0.01},
     {.name = "small_steps_paced_stride4_move2cm", .solver = "small_steps:max_move=0.01", .flags = {FlagKind::Stiff},
      .contactStride = 4, .contactStrideMove = 0.02},
 };

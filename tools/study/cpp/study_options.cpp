@@ -60,8 +60,9 @@ and in six extreme cases, every configuration against the flag's fine-step refer
                        half-spaces), both flags' small_steps_paced_stride2 (contact after every
                        second substep), the stiff flag's small_steps_paced_stride4 and
                        small_steps_paced_stride8 (every fourth and every eighth), and each
-                       flag's stride once the flag has also moved 2 cm on its pole
-                       (small_steps_paced_stride2_move2cm, small_steps_paced_stride4_move2cm)
+                       flag's stride once the flag has also moved 1 or 2 cm on its pole
+                       (small_steps_paced_stride2_move1cm, small_steps_paced_stride2_move2cm,
+                       small_steps_paced_stride4_move2cm)
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
                        numbers; tools/study/study.py merge-shards joins the parts)
   --export-nvidia-newton DIR
