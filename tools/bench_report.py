@@ -65,8 +65,10 @@ def main():
     lines += section(os.path.join(out, "cloth_budget.md"), "The cloth's real-time budget per 60 Hz frame",
                      "Copies of the demo's scenes without rendering (the 129x129 flag on two threads), of the "
                      "true-motion scene (`flag_vehicle_true_motion`: the demo's flag on `small_steps` paced at 1 cm "
-                     "per substep, contact after every second substep; `33x33_true_no_contact` the same without "
-                     "contact) and of the stiff scene (`flag_vehicle_stiff`: its true motion, `small_steps` at 240 Hz, on one and two "
+                     "per substep, contact after every second substep once the flag has moved 1 cm on its pole; "
+                     "`33x33_true_no_contact` the same without "
+                     "contact) and of the stiff scene (`flag_vehicle_stiff`: its true motion, `small_steps` at 240 Hz, contact after "
+                     "every fourth substep once the flag has moved 2 cm on its pole, on one and two "
                      "threads, and both again beside a busy loop on the other core (`_busy`); in the full run also at 65x65, and "
                      "at 129x129 on two threads, without contact, beside the demo flag's true motion at 129x129 without "
                      "contact); `33x33` is the demo's flag "
