@@ -25,8 +25,7 @@ struct PassArgs {
     const std::uint8_t* fixed;
     Scalar scale, h;
     std::int64_t* movedAt;  // StretchLimit::movedAt_
-    std::int64_t stamp;     // this pass's: pass * springs
-    bool everySpring;       // the first pass checks every spring
+    std::int64_t stamp;     // this pass's: pass * springs (0: the first, which checks every spring)
     std::int64_t springs;
 };
 
@@ -41,7 +40,7 @@ CLOTH_SIMD_CLONES int correctRange(const PassArgs& a, Index begin, Index end) {
     int count = 0;
     for (Index k = begin; k < end; ++k) {
         const Check& c = a.check[k];
-        if (!a.everySpring && movedAt[c.xi] < checked + k && movedAt[c.xj] < checked + k) continue;
+        if (a.stamp > 0 && movedAt[c.xi] < checked + k && movedAt[c.xj] < checked + k) continue;
         Scalar *xi = x + c.xi, *xj = x + c.xj;
         const Scalar dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
         // Most springs are within the limit: decide on squared lengths, without a square root
@@ -85,11 +84,11 @@ int StretchLimit::apply(const Model& model, const std::vector<std::uint8_t>& pin
     }
     movedAt_.assign(std::size_t(3 * model.particleCount()), -1);
     PassArgs args{check_.data(), springs.data(), state.x.data(), state.v.data(), model.masses().data(),
-                  pinned.data(), scale,          h,   movedAt_.data(), 0, true, std::int64_t(springs.size())};
+                  pinned.data(), scale,          h,   movedAt_.data(), 0, std::int64_t(springs.size())};
     auto correct = [&](Index begin, Index end) { return correctRange(args, begin, end); };
     int corrections = 0;
     for (int pass = 0; pass < passes; ++pass) {
-        args.stamp = std::int64_t(pass) * std::int64_t(springs.size()), args.everySpring = pass == 0;
+        args.stamp = std::int64_t(pass) * args.springs;
         // The blocks (on the pool's threads, which never changes a bit: they share no particle),
         // then the seam.
         std::atomic<int> inBlocks{0};

@@ -32,9 +32,9 @@ struct Configuration {
     std::vector<FlagKind> flags = {FlagKind::Demo, FlagKind::Stiff};
     int maxSide = 0;          // > 0: not above this side (its cost there is many frames per frame)
     // Only with --contact (configurations that set any): contact after every this many substeps
-    // (cloth::ContactSettings::substepStride; 0: once after each tick), or after this move of the
-    // fastest particle relative to the pole (m; ContactSettings::strideMove), and self pairs
-    // bounded by half-spaces (SelfBounds::HalfSpaces).
+    // (cloth::ContactSettings::substepStride; 0: once after each tick), with a move > 0 only once
+    // the fastest particle has also moved that far relative to the pole (m;
+    // ContactSettings::strideMove), and self pairs bounded by half-spaces (SelfBounds::HalfSpaces).
     int contactStride = 1;
     double contactStrideMove = 0;
     bool halfSpaces = false;
