@@ -16,6 +16,7 @@
 #include <fstream>
 
 #include "bullet_kind.h"
+#include "nvidia_newton_kind.h"
 #include "configurations.h"
 #include "drive_case.h"
 #include "extreme_cases.h"
@@ -130,7 +131,8 @@ long plannedRows(const StudyOptions& o, const std::vector<SolveErrorConfig>& con
 }  // namespace
 
 int main(int argc, char** argv) {
-    registerBulletSoftBody();  // before the options: --add-configs and --help may name it
+    registerBulletSoftBody();  // before the options: --add-configs and --help may name them
+    registerNvidiaNewton();
     StudyOptions o;
     if (const int code = parseOptions(argc, argv, o); code >= 0) return code;
     FrontWork w;

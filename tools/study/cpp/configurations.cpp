@@ -98,6 +98,19 @@ const Configuration kPeers[] = {
     {.name = "bullet_softbody_10", .solver = "bullet_softbody:iterations=10"},
 };
 
+// With --nvidia-newton: NVIDIA Newton's solvers (nvidia_newton_kind.cpp) at their defaults, one
+// Newton step per tick, XPBD in the fewest substeps of the tick that keep it stable
+// (flagstudy/nvidia_newton/solvers.py's auto_substeps at 33x33: 30 for the demo's flag, 95 for the
+// stiff one), so that its air and pins move at each.
+const Configuration kNvidiaNewton[] = {
+    {.name = "nvidia_newton_vbd", .solver = "nvidia_newton:method=vbd", .timing = "warp_cpu"},
+    {.name = "nvidia_newton_xpbd_7200", .solver = "nvidia_newton:method=xpbd", .substeps = 30, .flags = {kDemo},
+     .timing = "warp_cpu"},
+    {.name = "nvidia_newton_xpbd_22800", .solver = "nvidia_newton:method=xpbd", .substeps = 95, .flags = {FlagKind::Stiff},
+     .timing = "warp_cpu"},
+    {.name = "nvidia_newton_style3d", .solver = "nvidia_newton:method=style3d", .timing = "warp_cpu"},
+};
+
 // With --contact: on the demo's flag, contact once per tick with half-space self bounds, in the true
 // motion (instead of after each substep) and in the paper's step (instead of length bounds); on both
 // flags, the true motion with contact after every second substep; on the stiff flag, after every
@@ -171,6 +184,7 @@ std::vector<Configuration> configurations(const StudyOptions& o, std::string* er
     all.insert(all.end(), std::begin(kBlockDescent), std::end(kBlockDescent));
     all.insert(all.end(), std::begin(kPeers), std::end(kPeers));
     if (o.contact) all.insert(all.end(), std::begin(kContactPerTick), std::end(kContactPerTick));
+    if (o.nvidiaNewton) all.insert(all.end(), std::begin(kNvidiaNewton), std::end(kNvidiaNewton));
     if (o.quick)
         std::erase_if(all, [](const Configuration& c) {
             return std::find_if(std::begin(kQuick), std::end(kQuick), [&](const char* q) { return c.name == q; }) ==

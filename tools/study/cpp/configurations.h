@@ -38,6 +38,9 @@ struct Configuration {
     int contactStride = 1;
     double contactStrideMove = 0;
     bool halfSpaces = false;
+    // A peer that steps in another process: its cost is the cloth's own profile (its step as it
+    // timed it) and the row's timing says whose clock ("warp_cpu"); null: the tick's wall time.
+    const char* timing = nullptr;
 
     bool runsOn(FlagKind flag, int side) const;
 };

@@ -75,7 +75,7 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
     cloth::Cloth flag = engine::makeFlagCloth(s, mount, x.carrier(0));
     const double h = 1.0 / s.physicsHz;
     ExtremeRun r;
-    std::vector<double> tickMs, energy;
+    std::vector<double> tickMs, profiledMs, energy;
     std::array<std::vector<double>, kPatchCounts.size()> patch;
     if (keepStates) r.states.push_back(flag.state());
     const int ticks = int(std::floor(x.duration / h + 1e-9));
@@ -84,6 +84,8 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
         const auto t0 = Clock::now();
         flag.step(h, c, {cloth::poleCollider(mount, c)});
         tickMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        const cloth::ClothProfile& p = flag.profile();
+        profiledMs.push_back(p.air + p.forces + p.solve + p.collision + p.contact);
         const cloth::Diagnostics d = cloth::measure(flag.model(), {}, flag.state(), true);
         record(r, d, flag, c, x, k * h);
         energy.push_back(carrierEnergy(flag.model(), flag.state(), c));
@@ -102,6 +104,8 @@ ExtremeRun runExtreme(const engine::SceneConfig& s, const engine::PoleMount& mou
     r.failures = flag.failures(), r.firstFailure = flag.firstFailure();
     std::nth_element(tickMs.begin(), tickMs.begin() + tickMs.size() / 2, tickMs.end());
     r.msPerTick = tickMs[tickMs.size() / 2];
+    std::nth_element(profiledMs.begin(), profiledMs.begin() + profiledMs.size() / 2, profiledMs.end());
+    r.msPerTickProfiled = profiledMs[profiledMs.size() / 2];
     const std::size_t perWindow = std::size_t(std::lround(kEnergyWindow / h)), perSecond = std::size_t(std::lround(1 / h));
     const auto lastSecond = [perSecond](const std::vector<double>& v) {
         return mean(v, v.size() - std::min(v.size(), perSecond), v.size());

@@ -36,6 +36,10 @@ struct ExtremeRun {
     int failures = 0;
     std::string firstFailure;  // the cloth's description of its first failed tick (cloth.h), if any
     double msPerTick = 0;  // median
+    // Median of the cloth's own profile per tick (air, solve, collisions, contact): a peer that
+    // steps in another process (nvidia_newton_kind.cpp) reports its step's time there, without
+    // the pipe's. Not kept by the references' cache.
+    double msPerTickProfiled = 0;
     double maxStretch = 0, peakStretch = 0, p99Stretch = 0, lateStretch = 0, maxSpeed = 0;
     // The flag's kinetic energy in its carrier's frame, sum of m |v - v_carrier(x)|^2 / 2 (J): its
     // mean over the run, over the last second, and over each window of kEnergyWindow seconds.

@@ -145,7 +145,8 @@ private:
         l.integer(index).text(flagName(flag_)).text(x_.name).integer(size_).text(c.name);
         l.quoted(c.referenceFactor > 0 ? "reference" : cloth::describe(s.flag.solver)).quoted(s.flag.constraints.describe());
         l.integer(s.physicsHz).integer(s.flag.substeps).integer(r.stable ? 1 : 0).integer(r.failures);
-        l.number(r.msPerTick).number(r.msPerTick * s.physicsHz / 60).text(timing).number(traj);
+        const double ms = c.timing ? r.msPerTickProfiled : r.msPerTick;
+        l.number(ms).number(ms * s.physicsHz / 60).text(c.timing ? c.timing : timing).number(traj);
         l.number(r.p99Stretch).number(r.peakStretch).number(r.maxStretch).number(r.lateStretch).number(r.patchEnergyLate[0]);
         l.number(ref.p99Stretch).number(ref.peakStretch).number(ref.patchEnergyLate[0]);
         l.number(r.patchEnergyLate[0] / ref.patchEnergyLate[0]).text(references_ ? missedBounds(r, ref, x_) : "");

@@ -63,6 +63,12 @@ and in six extreme cases, every configuration against the flag's fine-step refer
                        flag's stride once the flag has also moved 1 or 2 cm on its pole
                        (small_steps_paced_stride2_move1cm, small_steps_paced_stride2_move2cm,
                        small_steps_paced_stride4_move2cm)
+  --nvidia-newton      NVIDIA Newton's VBD, XPBD and Style3D in the front too, stepped by a Python
+                       process of the project's venv (.venv-nvidia-newton, or the Python in
+                       FLAGSIM_NVIDIA_NEWTON_PYTHON; tools/run study --nvidia-newton makes it):
+                       nvidia_newton_vbd, nvidia_newton_xpbd, nvidia_newton_style3d; their cost
+                       is Newton's step as the process times it (timing=warp_cpu) plus the
+                       library's air, constraints and contact
   --shard K/N          run only the K-th of N disjoint parts of the work (rows keep their serial
                        numbers; tools/study/study.py merge-shards joins the parts)
   --export-nvidia-newton DIR
@@ -172,6 +178,7 @@ int parseOptions(int argc, char** argv, StudyOptions& o) {
         else if (a == "--no-cache") o.cacheDir.clear();
         else if (a == "--progress-lines") o.progressLines = true;
         else if (a == "--contact") o.contact = true;
+        else if (a == "--nvidia-newton") o.nvidiaNewton = true;
         else if (i + 1 >= argc) return usageError("unknown or incomplete option '" + a + "'");
         else if (const int code = readValueOption(a, argv[++i], o); code >= 0) return code;
     }

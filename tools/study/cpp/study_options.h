@@ -19,6 +19,7 @@ struct StudyOptions {
     std::string cacheDir = FLAGSIM_STUDY_CACHE_DIR;  // the references' cache (--cache-dir; --no-cache: "")
     bool progressLines = false;  // a line per row even on a terminal (--progress-lines)
     bool contact = false;        // both flags, their references too, with contact (--contact)
+    bool nvidiaNewton = false;   // NVIDIA Newton's solvers in the front too (--nvidia-newton)
 };
 
 // Reads the command line into `o`. Returns -1 to go on, else the exit code: 0 after --help, 2 for

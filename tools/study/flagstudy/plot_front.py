@@ -8,7 +8,8 @@ and size with a trajectory error, labelled with its name: filled when within eve
 empty), hollow when it misses one; an unstable row is an x at the panel's top edge at its cost.
 The step line is each size's Pareto front: the configurations within every bound (references
 aside) that no other such configuration beats on both cost and error. The dotted line is the
-reference's cost; the ring marks the flag as its scene ships (config `shipped`).
+reference's cost; the ring marks the flag as its scene ships (config `shipped`); a triangle marks
+NVIDIA Newton's solvers (timing warp_cpu: their cost on Warp's CPU device).
 """
 import csv
 import math
@@ -25,6 +26,7 @@ from flagstudy.front_table import FLAGS, PATHS, num  # noqa: E402  (the flags, p
 
 SIZE_STYLE = {"33": ("tab:blue", "o"), "65": ("tab:orange", "s")}
 OTHER_STYLE = ("tab:green", "D")  # a size the study does not run by default (--front-sizes)
+PEER_TIMING, PEER_MARKER = "warp_cpu", "^"  # NVIDIA Newton's solvers: their cost on Warp's CPU device
 
 
 def style(size):
@@ -59,6 +61,8 @@ def draw_points(ax, rows):
             continue
         y = 100 * err
         color, marker = style(r["size"])
+        if r.get("timing") == PEER_TIMING:
+            marker = PEER_MARKER
         ok = r["misses"] == ""
         ax.scatter(ms, y, s=30, marker=marker, zorder=3, linewidths=1.2, edgecolors=color,
                    facecolors=color if ok else "none")
@@ -178,6 +182,7 @@ def legend(fig, sizes):
         Line2D([], [], ls="", marker="o", color="0.3", mfc="none", label="misses a bound (p99, peak or energy)"),
         Line2D([], [], ls="", marker="x", color="0.3", mew=2, label="unstable (at its cost, top edge)"),
         Line2D([], [], ls="", marker="o", color="black", mfc="none", markersize=12, label="shipped"),
+        Line2D([], [], ls="", marker=PEER_MARKER, color="0.3", label="NVIDIA Newton (Warp CPU)"),
         Line2D([], [], color="0.3", lw=1.4, label="Pareto front within every bound"),
         Line2D([], [], color="0.3", ls=":", lw=1.5, label="reference's cost"),
     ]
