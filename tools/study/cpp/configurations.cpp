@@ -99,9 +99,9 @@ const Configuration kPeers[] = {
 };
 
 // With --nvidia-newton: NVIDIA Newton's solvers (nvidia_newton_kind.cpp) at their defaults, one
-// Newton step per tick, XPBD in the fewest substeps of the tick that keep it stable
-// (flagstudy/nvidia_newton/solvers.py's auto_substeps at 33x33: 30 for the demo's flag, 95 for the
-// stiff one), so that its air and pins move at each.
+// Newton step per tick; XPBD in as many substeps of the tick as keep it stable by the harness's
+// rule (flagstudy/nvidia_newton/solvers.py, auto_substeps: 30 for the demo's flag at 33x33; for the
+// stiff flag's springs 3.1 times the demo's at 17x17, so 95), its air and pins moving at each.
 const Configuration kNvidiaNewton[] = {
     {.name = "nvidia_newton_vbd", .solver = "nvidia_newton:method=vbd", .timing = "warp_cpu"},
     {.name = "nvidia_newton_xpbd_7200", .solver = "nvidia_newton:method=xpbd", .substeps = 30, .flags = {kDemo},
