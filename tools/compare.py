@@ -4,11 +4,11 @@ flagsim, then tiled into one video with each tile labelled by its solver and its
 per frame (ffmpeg).
 
     tools/run compare --solvers "kangcho;small_steps:max_move=0.01" [--scene S] [--frames N]
-                      [--out DIR] [--width W] [--height H]
+                      [--out DIR] [--width W] [--height H] [--png]
 
 Every run drives the same vehicle with the same input, so the tiles differ only in the flag.
 Writes DIR/<k>/ (each run's frames-free recording: video.mp4, summary.json, profile.csv) and
-DIR/compare.mp4 (2: side by side; 3 or 4: two by two). Under each solver's name: its cloth per frame
+DIR/compare.mp4 (2: side by side; 3 or 4: two by two), and with --png its frames as DIR/frames/*.png. Under each solver's name: its cloth per frame
 (air, forces, solve, collisions and contact from its profile.csv, as tools/bench_cloth_budget.py sums
 them), the mean over the last second, renewed every half second, and the whole run's mean
 (DIR/<k>/labels.cmd holds the renewals). A bad solver spec stops before any run, with flagsim's
@@ -17,6 +17,7 @@ message naming it.
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 
@@ -39,6 +40,7 @@ def parse(argv):
     p.add_argument("--out", default=os.path.join(ROOT, "out", "compare"), help="output folder (default out/compare)")
     p.add_argument("--width", type=int, default=640, help="each tile's width (default 640)")
     p.add_argument("--height", type=int, default=360, help="each tile's height (default 360)")
+    p.add_argument("--png", action="store_true", help="also the tiled frames as DIR/frames/frame_NNNNN.png")
     p.add_argument("--flagsim", default=os.path.join(ROOT, "build", "app", "flagsim"), help=argparse.SUPPRESS)
     a = p.parse_args(argv)
     a.specs = [s.strip() for s in a.solvers.split(";") if s.strip()]
@@ -145,6 +147,23 @@ def main(argv):
         fail("ffmpeg could not tile the videos")
     os.replace(partial, target)
     print(f"compare: {target}")
+    if a.png:
+        print(f"compare: {write_frames(target, os.path.join(a.out, 'frames'))}")
+
+
+def write_frames(video, folder):
+    """The video's frames as PNGs in `folder` (frame_00000.png on), written beside it and renamed into
+    place when all are written, so that the folder never holds a partial set; returns the folder."""
+    partial = folder + ".tmp"
+    shutil.rmtree(partial, ignore_errors=True)
+    os.makedirs(partial)
+    cmd = ["ffmpeg", "-y", "-loglevel", "error", "-i", video, "-start_number", "0", os.path.join(partial, "frame_%05d.png")]
+    if subprocess.run(cmd).returncode != 0:
+        shutil.rmtree(partial, ignore_errors=True)
+        fail(f"ffmpeg could not write the frames of {video}")
+    shutil.rmtree(folder, ignore_errors=True)
+    os.replace(partial, folder)
+    return folder
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 #!/bin/sh
 # tools/compare.py end to end: two solvers for six frames in 160x90 tiles give one labelled video
-# of 320x90 and six frames (ffprobe reads it back); each tile's first label holds its first frame's
+# of 320x90 and six frames (ffprobe reads it back), and with --png six PNGs of 320x90; each tile's first label holds its first frame's
 # cloth milliseconds and its run's mean, as awk sums the air, forces, solve, collision and contact
 # columns of its profile.csv. One solver, or a mistyped one, is refused with exit code 2 and a
 # message naming it, and leaves no video.
@@ -11,9 +11,13 @@ rm -rf "$out" && mkdir -p "$out"
 fail() { echo "FAIL: $*"; exit 1; }
 
 "$py" "$compare" --flagsim "$flagsim" --solvers "kangcho;vbd:iterations=2" --frames 6 --width 160 --height 90 \
-    --out "$out/two" > "$out/two.log" 2>&1 || { cat "$out/two.log"; fail "two solvers: exit $?"; }
+    --png --out "$out/two" > "$out/two.log" 2>&1 || { cat "$out/two.log"; fail "two solvers: exit $?"; }
 probe=$(ffprobe -v error -count_frames -show_entries stream=width,height,nb_read_frames -of csv=p=0 "$out/two/compare.mp4")
 [ "$probe" = "320,90,6" ] || fail "compare.mp4 is '$probe', not 320,90,6"
+pngs=$(ls "$out/two/frames" | grep -c '^frame_0000[0-5]\.png$')
+[ "$pngs" = 6 ] && [ ! -e "$out/two/frames.tmp" ] || { ls "$out/two"; fail "--png wrote $pngs of frame_00000..5.png"; }
+frame=$(ffprobe -v error -show_entries stream=width,height -of csv=p=0 "$out/two/frames/frame_00005.png")
+[ "$frame" = "320,90" ] || fail "frame_00005.png is '$frame', not 320x90"
 for k in 1 2; do
     want=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
         { c = $col["air"] + $col["cloth_forces"] + $col["cloth_solve"] + $col["collision"] + $col["contact"]
