@@ -45,6 +45,11 @@ def c_nvidia_newton_on_the_judge(docs):
     ours = num(front(docs, "demo", "drive", "small_steps_paced")["ms_per_frame"])
     need(min(peer_ms) > 20 * ours, f"front.csv: the peers' costs from {min(peer_ms)} ms per frame against small_steps_paced's "
          f"{ours} on the demo drive (docs: over 20 times)")
+    crossed = sum(int(front(docs, f, p, c)["crossings"]) > 0 for f in PEERS for c in PEERS[f] for p in PATHS)
+    ref = front(docs, "demo", "drive", "reference")
+    need(crossed == 36 and (ref["crossings"], ref["crossing_ticks"]) == ("333", "245"),
+         f"front.csv: {crossed} peer rows cross, the demo drive's reference {ref['crossings']} in {ref['crossing_ticks']} "
+         f"ticks (docs: 36 of 42; 333 in 245)")
     peers = {c for cs in PEERS.values() for c in cs}
     cheapest = {(f, p): cheapest_within(docs, f, p) for f in PEERS for p in PATHS}
     need(not peers & set(cheapest.values()), f"front.csv: the cheapest within every bound {cheapest} (docs: never a peer)")
