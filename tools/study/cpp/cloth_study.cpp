@@ -9,6 +9,7 @@
 // against each flag's fine-step reference. --export-nvidia-newton writes the same flags and pole motions for NVIDIA
 // Newton's harness instead (nvidia_newton_export.h).
 
+#include <algorithm>
 #include <chrono>
 #include <unistd.h>
 #include <cstdio>
@@ -128,15 +129,26 @@ long plannedRows(const StudyOptions& o, const std::vector<SolveErrorConfig>& con
     return part1 + (o.front ? frontRows(plan, work) : 0);
 }
 
-}  // namespace
+// Why a planned configuration cannot run here ("" when all can): NVIDIA Newton's without its venv.
+std::string peersUnavailable(const FrontWork& w) {
+    const bool newton = std::any_of(w.configs.begin(), w.configs.end(),
+                                    [](const Configuration& c) { return c.solver.rfind("nvidia_newton", 0) == 0; });
+    return newton ? nvidiaNewtonUnavailable() : std::string();
+}
 
-int main(int argc, char** argv) {
-    registerBulletSoftBody();  // before the options: --add-configs and --help may name them
-    registerNvidiaNewton();
-    StudyOptions o;
-    if (const int code = parseOptions(argc, argv, o); code >= 0) return code;
-    FrontWork w;
-    if (const int code = planFront(o, w); code >= 0) return code;
+// After a failed run: the CSVs it was writing renamed to NAME.partial, so that none looks whole.
+void setAsidePartialOutputs(const StudyOptions& o) {
+    for (const char* name : {"front.csv", "error_vs_runtime.csv"}) {
+        const std::filesystem::path p = std::filesystem::path(o.out) / name;
+        std::error_code ec;
+        if (!std::filesystem::exists(p, ec)) continue;
+        std::filesystem::rename(p, p.string() + ".partial", ec);
+        std::fprintf(stderr, "cloth_study: the rows written so far are in %s.partial\n", p.c_str());
+    }
+}
+
+// The run: part 1 and the front (or the export for NVIDIA Newton's harness); the exit code.
+int run(const StudyOptions& o, const FrontWork& w) {
     std::filesystem::create_directories(o.out);
     if (o.front && !pathsDriveTheFlag(w.flags.demo, w.paths, o.exportDir.empty() ? o.out + "/extreme_cases.csv" : ""))
         return 1;
@@ -158,4 +170,23 @@ int main(int argc, char** argv) {
                     (c.refused ? ", " + std::to_string(c.refused) + " refused" : "") +
                     (cache.on() ? " (cache " + o.cacheDir + ")" : " (no cache)") + "; " + written);
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    registerBulletSoftBody();  // before the options: --add-configs and --help may name them
+    registerNvidiaNewton();
+    StudyOptions o;
+    if (const int code = parseOptions(argc, argv, o); code >= 0) return code;
+    FrontWork w;
+    if (const int code = planFront(o, w); code >= 0) return code;
+    if (const std::string why = peersUnavailable(w); !why.empty()) return usageError(why);
+    try {
+        return run(o, w);
+    } catch (const std::exception& e) {  // a peer's process that failed: its reason, and no CSV that looks whole
+        std::fprintf(stderr, "\ncloth_study: %s\n", e.what());
+        setAsidePartialOutputs(o);
+        return 1;
+    }
 }

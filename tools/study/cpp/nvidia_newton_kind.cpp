@@ -17,6 +17,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include "cloth/diagnostics.h"
@@ -52,14 +54,16 @@ std::string pythonPath() {
     return FLAGSIM_SOURCE_DIR "/.venv-nvidia-newton/bin/python";
 }
 
+constexpr const char* kVenvHint =
+    " (NVIDIA Newton's venv: tools/run study --nvidia-newton makes it; FLAGSIM_NVIDIA_NEWTON_PYTHON names another Python)";
+
 // The bridge's process, or an error that says where the Python comes from.
 std::unique_ptr<PeerProcess> launch() {
     try {
         return std::make_unique<PeerProcess>(std::vector<std::string>{pythonPath(), "-m", "flagstudy.nvidia_newton.bridge"},
                                              std::vector<std::string>{"PYTHONPATH=" FLAGSIM_SOURCE_DIR "/tools/study"});
     } catch (const std::runtime_error& e) {
-        throw std::runtime_error(std::string(e.what()) + " (NVIDIA Newton's venv: tools/run study --nvidia-newton makes it; "
-                                 "FLAGSIM_NVIDIA_NEWTON_PYTHON names another Python)");
+        throw std::runtime_error(std::string(e.what()) + kVenvHint);
     }
 }
 
@@ -164,6 +168,12 @@ private:
 };
 
 }  // namespace
+
+std::string nvidiaNewtonUnavailable() {
+    const std::string python = pythonPath();
+    if (access(python.c_str(), X_OK) == 0) return {};
+    return "nvidia_newton: no Python at '" + python + "'" + kVenvHint;
+}
 
 void registerNvidiaNewton() {
     using namespace cloth;
