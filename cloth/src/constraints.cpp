@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <limits>
 #include <cmath>
 
 namespace cloth {
@@ -25,22 +26,22 @@ struct PassArgs {
     const std::uint8_t* fixed;
     Scalar scale, h;
     std::int64_t* movedAt;  // StretchLimit::movedAt_
-    std::int64_t stamp;     // this pass's: pass * springs (0: the first, which checks every spring)
-    std::int64_t springs;
+    std::int64_t stamp;     // this pass's (StretchLimit::stamps_)
+    std::int64_t checked;   // the previous pass's stamp; in the first, one older than any: every spring is checked
 };
 
 // Springs [begin, end) in order (Gauss-Seidel); returns the corrections. After the first pass, a
-// spring whose ends have not moved since the previous pass checked it (at stamp - springs + k) is
-// within its limit, as that check found.
+// spring whose ends have not moved since the previous pass checked it (at checked + k) is within
+// its limit, as that check found.
 CLOTH_SIMD_CLONES int correctRange(const PassArgs& a, Index begin, Index end) {
     Scalar* x = a.x;
     Scalar* v = a.v;
     std::int64_t* movedAt = a.movedAt;
-    const std::int64_t checked = a.stamp - a.springs;
+    const std::int64_t checked = a.checked;
     int count = 0;
     for (Index k = begin; k < end; ++k) {
         const Check& c = a.check[k];
-        if (a.stamp > 0 && movedAt[c.xi] < checked + k && movedAt[c.xj] < checked + k) continue;
+        if (movedAt[c.xi] < checked + k && movedAt[c.xj] < checked + k) continue;
         Scalar *xi = x + c.xi, *xj = x + c.xj;
         const Scalar dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
         // Most springs are within the limit: decide on squared lengths, without a square root
@@ -82,13 +83,15 @@ int StretchLimit::apply(const Model& model, const std::vector<std::uint8_t>& pin
         }
         model_ = model.id(), maxStretch_ = maxStretch;
     }
-    movedAt_.assign(std::size_t(3 * model.particleCount()), -1);
+    if (movedAt_.size() != std::size_t(3 * model.particleCount())) movedAt_.assign(std::size_t(3 * model.particleCount()), -1);
+    const auto count = std::int64_t(springs.size());
     PassArgs args{check_.data(), springs.data(), state.x.data(), state.v.data(), model.masses().data(),
-                  pinned.data(), scale,          h,   movedAt_.data(), 0, std::int64_t(springs.size())};
+                  pinned.data(), scale, h, movedAt_.data(), stamps_, std::numeric_limits<std::int64_t>::min() / 2};
+    stamps_ += std::int64_t(passes) * count;  // what is left in movedAt_ is older than any stamp of a later call
     auto correct = [&](Index begin, Index end) { return correctRange(args, begin, end); };
     int corrections = 0;
     for (int pass = 0; pass < passes; ++pass) {
-        args.stamp = std::int64_t(pass) * args.springs;
+        if (pass > 0) args.checked = args.stamp, args.stamp += count;
         // The blocks (on the pool's threads, which never changes a bit: they share no particle),
         // then the seam.
         std::atomic<int> inBlocks{0};

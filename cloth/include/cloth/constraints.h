@@ -39,11 +39,14 @@ private:
     std::uint64_t model_ = 0;
     Scalar maxStretch_ = -1;
     std::vector<Check> check_;
-    // When each particle last moved in this call, as pass * springs + the spring that moved it
-    // (indexed by its first coordinate, as a Check's xi): a pass after the first checks only the
-    // springs with an end that moved since the last pass checked them. The others would find
-    // what that check found, from the same positions: nothing to correct (the same bits).
+    // When each particle last moved, as its pass's stamp + the spring that moved it (indexed by its
+    // first coordinate, as a Check's xi): a pass after the first checks only the springs with an
+    // end that moved since the last pass checked them. The others would find what that check
+    // found, from the same positions: nothing to correct (the same bits). Each pass's stamp is the
+    // last one's + springs, across calls (stamps_: the next call's first), so that a move of an
+    // earlier call reads as older than any check of this one and the table is never cleared.
     std::vector<std::int64_t> movedAt_;
+    std::int64_t stamps_ = 0;
 };
 
 // Long-range attachments (Kim, Chentanez & Mueller 2012, "Long range attachments - a method to
