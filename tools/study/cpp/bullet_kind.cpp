@@ -13,6 +13,7 @@
 #include "cloth/diagnostics.h"
 #include "cloth/solver_kind.h"
 #include "cloth/step_commit.h"
+#include "peer_force.h"
 #include "peers/bullet_cloth.h"
 
 namespace study {
@@ -33,9 +34,7 @@ public:
             bullet_ = std::make_unique<peer::BulletCloth>(model, state, input.pins, settings<BulletSettings>().iterations);
         model_ = model.id();
         const auto t0 = std::chrono::steady_clock::now();
-        // Gravity is Bullet's own; the drag and the air come in as forces.
-        force_ = input.externalForce ? *input.externalForce : Points::Zero(3, model.particleCount());
-        for (Index i = 0; i < model.particleCount(); ++i) force_.col(i) -= env.drag * model.masses()[i] * state.v.col(i);
+        peerForce(model, env, state, input, force_);  // the drag and the air; gravity is Bullet's own
         scratch_ = state;
         bullet_->step(input.h, input.pins, &force_, scratch_);
         dv_ = scratch_.v - state.v;

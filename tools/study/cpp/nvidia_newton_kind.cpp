@@ -24,6 +24,7 @@
 #include "cloth/diagnostics.h"
 #include "cloth/solver_kind.h"
 #include "cloth/step_commit.h"
+#include "peer_force.h"
 #include "peer_process.h"
 
 namespace study {
@@ -148,10 +149,8 @@ public:
         if (const Index bad = firstNonFinite(state); bad >= 0) return {StepStatus::NonFinite, bad};
         if (!peer_ || !peer_->fits(model, input.pins))
             peer_.reset(), peer_ = std::make_unique<Peer>(model, env, input.pins, specOf(settings<NvidiaNewtonSettings>()));
-        // Gravity is Newton's own (the model's, from env); the drag and the air come in as forces.
-        force_ = input.externalForce ? *input.externalForce : Points::Zero(3, model.particleCount());
-        for (Index i = 0; i < model.particleCount(); ++i) force_.col(i) -= env.drag * model.masses()[i] * state.v.col(i);
-        for (const Pin& p : input.pins) force_.col(p.particle).setZero();
+        peerForce(model, env, state, input, force_);  // gravity is Newton's own (the model's, from env)
+        for (const Pin& p : input.pins) force_.col(p.particle).setZero();  // as the harness gives it
         const double newtonMs = peer_->step(input.h, state, input.pins, force_, scratch_);
         dv_ = scratch_.v - state.v;
         const auto t0 = std::chrono::steady_clock::now();
