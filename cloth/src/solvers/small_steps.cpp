@@ -4,7 +4,8 @@
 // collisions per substep), in float SIMD on the grid's stencil (small_steps/stencil_cloth.h),
 // positions relative to the first pin so float keeps its precision anywhere in the world, on one
 // or more threads that meet twice per substep (the same bits for any count; beside a busy core
-// they part, small_steps/lag_guard.h). substeps=0 picks
+// they part, small_steps/lag_guard.h; a thread that has not begun when the step starts is not
+// waited for, small_steps/start_gate.h). substeps=0 picks
 // each step's count from the stability bound (small_steps/stable_step.h) times `fraction`, and
 // with max_move > 0 enough that no pin, and no particle at its speed relative to the pole's, moves
 // more than max_move metres in a substep: as the reference paces its substeps through a teleport,
@@ -26,6 +27,7 @@
 #include "small_steps/kernels.h"
 #include "small_steps/lag_guard.h"
 #include "small_steps/spin_barrier.h"
+#include "small_steps/start_gate.h"
 #include "small_steps/stable_step.h"
 #include "solvers/step_common.h"
 
@@ -119,6 +121,7 @@ private:
     Scalar springFrequency_ = 0;
     std::vector<int> ranges_;  // thread t takes particles [ranges_[t], ranges_[t + 1])
     std::unique_ptr<SpinBarrier> barrier_;
+    StartGate gate_;  // the step's threads all begun, or thread 0 alone
     LagGuard lag_;  // one thread for a while when a busy core keeps the other waiting
     Clock::time_point stepStart_;    // when the parallel step under way began
     std::atomic<bool> parting_{false};  // thread 0 ends this step alone
@@ -212,9 +215,20 @@ void SmallStepsSolver::runSubsteps() {
     if (threads == 1 || lag_.solo()) return worker(0, 0, cloth_.n, false);
     stepStart_ = Clock::now();
     parting_.store(false, std::memory_order_relaxed);
+    gate_.open(threads);
     pool_->run(2 * threads, [this](int begin, int) {
         const int t = begin / 2;
-        worker(t, ranges_[std::size_t(t)], ranges_[std::size_t(t) + 1], true);
+        if (t != 0) {
+            if (gate_.join(t)) worker(t, ranges_[std::size_t(t)], ranges_[std::size_t(t) + 1], true);
+            return;
+        }
+        // A thread that has not begun by kMinLag (asleep, off its core, or a host's task not yet
+        // run) leaves its share to thread 0: the wait counts as one at a barrier.
+        const auto t0 = Clock::now();
+        const bool together = gate_.lead(LagGuard::kMinLag);
+        lag_.waited(Clock::now() - t0);
+        if (together) worker(0, ranges_[0], ranges_[1], true);
+        else worker(0, 0, cloth_.n, false);
     });
     lag_.stepEnded(Clock::now() - stepStart_);
 }
