@@ -66,6 +66,7 @@ void Cloth::makeSolver(const ClothSettings& settings) {
         throw std::invalid_argument("contact: needs a grid cloth, a thickness and a move above 0");
     solver->setConstraints(settings.constraints);
     solver->threadPool().setObserver(workerObserver_);
+    solver->threadPool().useHost(host_);
     solver_ = std::move(solver);
     settings_ = settings;
 }
@@ -81,6 +82,11 @@ void Cloth::reconfigure(const ClothSettings& settings, const Model* model) {
 void Cloth::setWorkerObserver(ThreadPool::Observer observer) {
     workerObserver_ = std::move(observer);
     solver_->threadPool().setObserver(workerObserver_);
+}
+
+void Cloth::setTaskSystem(TaskSystem* host) {
+    host_ = host;
+    solver_->threadPool().useHost(host_);
 }
 
 void Cloth::reset(const RigidFrame& carrier) {

@@ -9,15 +9,59 @@ void chunk(int n, int parts, int index, int& begin, int& end) {
 }
 }  // namespace
 
-ThreadPool::ThreadPool(int threads) : threads_(threads < 1 ? 1 : threads), spans_(std::size_t(threads_)) {
-    for (int i = 1; i < threads_; ++i) workers_.emplace_back([this] { worker(); });
+// The region being run. The pool's workers and the host's helpers hold it, so that a helper the
+// host runs after its region (or after the pool) finds no chunk left and returns.
+struct ThreadPool::Region {
+    explicit Region(int threads) : threads(threads), spans(std::size_t(threads)) {}
+    const int threads;
+    const std::function<void(int, int)>* job = nullptr;
+    int n = 0;
+    bool timed = false;                 // this region's chunks are timed (published with the job)
+    std::atomic<int> next{1 << 30};     // the next chunk to claim (past threads: none left)
+    std::atomic<int> done{0};           // chunks finished
+    struct Span {
+        Clock::time_point begin, end;
+        bool ran = false;
+    };
+    std::vector<Span> spans;            // per chunk, read once done is threads
+
+    // Runs chunks of the region until none is left to claim (each is claimed exactly once).
+    void claim() {
+        for (int c; (c = next.fetch_add(1, std::memory_order_acq_rel)) < threads;) {
+            int begin, end;
+            chunk(n, threads, c, begin, end);
+            Span& span = spans[std::size_t(c)];
+            if (timed) span.begin = Clock::now();
+            (*job)(begin, end);
+            if (timed) span.end = Clock::now(), span.ran = true;
+            done.fetch_add(1, std::memory_order_acq_rel);
+        }
+    }
+};
+
+ThreadPool::ThreadPool(int threads)
+    : threads_(threads < 1 ? 1 : threads), region_(std::make_shared<Region>(threads_)) {}
+
+ThreadPool::~ThreadPool() { stopWorkers(); }
+
+void ThreadPool::useHost(TaskSystem* host) {
+    if (host) stopWorkers();
+    host_ = host;
 }
 
-ThreadPool::~ThreadPool() {
+void ThreadPool::startWorkers() {
+    const unsigned seen = generation_.load(std::memory_order_acquire);
+    for (int i = 1; i < threads_; ++i) workers_.emplace_back([this, seen] { worker(seen); });
+}
+
+void ThreadPool::stopWorkers() {
+    if (workers_.empty()) return;
     stop_.store(true, std::memory_order_release);
     generation_.fetch_add(1, std::memory_order_acq_rel);
     generation_.notify_all();
     for (auto& t : workers_) t.join();
+    workers_.clear();
+    stop_.store(false, std::memory_order_release);
 }
 
 void ThreadPool::run(int n, const std::function<void(int, int)>& fn) {
@@ -25,37 +69,29 @@ void ThreadPool::run(int n, const std::function<void(int, int)>& fn) {
         fn(0, n);
         return;
     }
-    job_ = &fn;
-    n_ = n;
-    timed_ = bool(observer_);
-    for (Span& s : spans_) s.ran = false;
-    done_.store(0, std::memory_order_relaxed);
-    next_.store(0, std::memory_order_release);  // publishes job_, n_ and the spans
-    generation_.fetch_add(1, std::memory_order_acq_rel);
-    generation_.notify_all();
-    claimChunks();  // chunk 0 first, then any a worker has not started: a late worker costs no wait
-    for (int spins = 0; done_.load(std::memory_order_acquire) != threads_; ++spins)
-        if (spins > 1000) std::this_thread::yield();
-    if (timed_)
-        for (int c = 1; c < threads_; ++c)
-            if (spans_[std::size_t(c)].ran) observer_(c, spans_[std::size_t(c)].begin, spans_[std::size_t(c)].end);
-}
-
-// Runs chunks of the current region until none is left to claim (each is claimed exactly once).
-void ThreadPool::claimChunks() {
-    for (int c; (c = next_.fetch_add(1, std::memory_order_acq_rel)) < threads_;) {
-        int begin, end;
-        chunk(n_, threads_, c, begin, end);
-        Span& span = spans_[std::size_t(c)];
-        if (timed_) span.begin = Clock::now();
-        (*job_)(begin, end);
-        if (timed_) span.end = Clock::now(), span.ran = true;
-        done_.fetch_add(1, std::memory_order_acq_rel);
+    if (!host_ && workers_.empty()) startWorkers();
+    Region& r = *region_;
+    r.job = &fn;
+    r.n = n;
+    r.timed = bool(observer_);
+    for (Region::Span& s : r.spans) s.ran = false;
+    r.done.store(0, std::memory_order_relaxed);
+    r.next.store(0, std::memory_order_release);  // publishes job, n and the spans
+    if (host_) {
+        for (int c = 1; c < threads_; ++c) host_->enqueue([region = region_] { region->claim(); });
+    } else {
+        generation_.fetch_add(1, std::memory_order_acq_rel);
+        generation_.notify_all();
     }
+    r.claim();  // chunk 0 first, then any a worker has not started: a late worker costs no wait
+    for (int spins = 0; r.done.load(std::memory_order_acquire) != threads_; ++spins)
+        if (spins > 1000) std::this_thread::yield();
+    if (r.timed)
+        for (int c = 1; c < threads_; ++c)
+            if (r.spans[std::size_t(c)].ran) observer_(c, r.spans[std::size_t(c)].begin, r.spans[std::size_t(c)].end);
 }
 
-void ThreadPool::worker() {
-    unsigned seen = 0;
+void ThreadPool::worker(unsigned seen) {
     for (;;) {
         // Spin for a while (the next region usually follows within tens of microseconds: a
         // Newton step's serial parts between its regions last that long), then sleep in the
@@ -72,7 +108,7 @@ void ThreadPool::worker() {
         }
         seen = g;
         if (stop_.load(std::memory_order_acquire)) return;
-        claimChunks();
+        region_->claim();
     }
 }
 

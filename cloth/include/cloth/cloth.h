@@ -136,6 +136,10 @@ public:
     void setObserver(ClothObserver* observer) { observer_ = observer; }
     // When each of the solver's workers ran (ThreadPool::setObserver); kept across reconfigure().
     void setWorkerObserver(ThreadPool::Observer observer);
+    // The host's task system runs the solver's parallel work (cloth/task_system.h; null, the
+    // default: the solver's own threads); the same bits either way. The host must outlive the
+    // cloth, or be unset first. Kept across reconfigure().
+    void setTaskSystem(TaskSystem* host);
     // A step that leaves a particle farther than this many diagonals of the model's rest shape
     // from the first attachment has diverged.
     static constexpr Scalar kRunawayReach = 10;
@@ -185,6 +189,7 @@ private:
     ClothCounts counts_;
     ClothObserver* observer_ = nullptr;
     ThreadPool::Observer workerObserver_;
+    TaskSystem* host_ = nullptr;
     long long steps_ = 0;
     int failures_ = 0;
     std::string firstFailure_;

@@ -7,13 +7,18 @@
 // scheduler has taken off its core (the other core busy, as in a game) costs the region no wait
 // unless it is inside its chunk. Workers spin for up to kSpin between jobs: a cloth step has many
 // short parallel regions and a sleeping thread takes longer to wake than a region lasts; after
-// that they sleep on the counter (futex), so an idle pool costs nothing.
+// that they sleep on the counter (futex), so an idle pool costs nothing. With a host's task system
+// (useHost, cloth/task_system.h) the pool starts no thread of its own: each region hands the host
+// one helper task per chunk after the first, which claims chunks as a worker would.
 
 #include <atomic>
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <thread>
 #include <vector>
+
+#include "cloth/task_system.h"
 
 namespace cloth {
 
@@ -28,6 +33,9 @@ public:
     // Calls fn(begin, end) for each chunk; the calling thread takes chunk 0 and any chunk not yet
     // started. Returns when all are done.
     void run(int n, const std::function<void(int, int)>& fn);
+    // The host's task system runs the helpers from now on (null: the pool's own threads, started
+    // at the next region). Not during run(); the host must outlive its use here.
+    void useHost(TaskSystem* host);
 
     // When each chunk 1 .. threads-1 of a parallel region ran (labelled as worker c), told on the
     // calling thread once the region is done (a profiler's timeline). Null, the default: nothing is timed.
@@ -37,23 +45,17 @@ public:
 
 private:
     static constexpr std::chrono::microseconds kSpin{100};
-    void worker();
-    void claimChunks();
+    struct Region;  // the region being run: shared with the workers and the host's helpers
+    void startWorkers();
+    void stopWorkers();
+    void worker(unsigned seen);
     int threads_;
+    TaskSystem* host_ = nullptr;
+    std::shared_ptr<Region> region_;
     std::vector<std::thread> workers_;
     std::atomic<unsigned> generation_{0};
-    std::atomic<int> next_{0};  // the next chunk to claim (past threads_: none left)
-    std::atomic<int> done_{0};  // chunks finished
     std::atomic<bool> stop_{false};
-    const std::function<void(int, int)>* job_ = nullptr;
-    int n_ = 0;
     Observer observer_;
-    bool timed_ = false;  // this region's workers time their chunks (published with the job)
-    struct Span {
-        Clock::time_point begin, end;
-        bool ran = false;
-    };
-    std::vector<Span> spans_;  // per chunk, read once done_ is threads_
 };
 
 // fn(begin, end) over [0, n): on the pool's threads, or all here when there is no pool.

@@ -69,6 +69,9 @@ public:
     // phases. The solver reports how long its forces and its solve took, not when: they are
     // placed at the start and at the end of the step's measured span, in the order they run.
     void setTrace(Trace* trace);
+    // A game's task system runs the solver's parallel work (cloth/task_system.h; null: the
+    // solver's own threads), with the same bits; kept across reconfigure().
+    void setTaskSystem(cloth::TaskSystem* host) { cloth_.setTaskSystem(host); }
     void resetTimings() { timings_ = {}; }
     long long steps() const { return cloth_.steps(); }
     int failures() const { return cloth_.failures(); }
