@@ -113,7 +113,7 @@ TEST(Recording, TheSummaryCountsTheSolversIterationsPerStep) {
 
 // The main demo's first second: contact's work summed over the run. The flag hangs beside its pole,
 // so every step has edges near it and cuts its motion into at least one sub-interval; nothing is
-// overloaded. Without contact the summary has no "contact".
+// overloaded; its broad phase takes part of its time. Without contact the summary has no "contact".
 TEST(Recording, TheSummaryCountsContactsWork) {
     const auto summary = [](const std::string& scene) {
         const fs::path out = freshDir("flagsim_contact_summary");
@@ -129,6 +129,10 @@ TEST(Recording, TheSummaryCountsContactsWork) {
     EXPECT_GE(c["subintervals"].get<long long>(), demo["cloth"]["steps"].get<long long>());
     EXPECT_GT(c["near_solids"].get<long long>(), 0);
     EXPECT_EQ(c["overloaded_steps"].get<long long>(), 0);
+    // The broad phase is part of contact's time: over 0, under the profile's contact summed over the frames.
+    const double contactMs = demo["profile"]["contact"]["mean_ms"].get<double>() * demo["frames"].get<double>();
+    EXPECT_GT(c["broad_phase_ms"].get<double>(), 0);
+    EXPECT_LE(c["broad_phase_ms"].get<double>(), contactMs);
     EXPECT_FALSE(summary("flag_vehicle_no_contact").contains("contact"));
 }
 

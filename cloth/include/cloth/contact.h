@@ -88,10 +88,15 @@ struct ContactReport {
     // solver, or thrown 1 m by a teleport): too many to bound, so the free particles kept their
     // start in the carrier's frame, which is uncrossed (the cloth moved with its carrier).
     long long overloaded = 0;
+    // Milliseconds in the broad phase (the pairs and the solids' primitives each pass gathers,
+    // the pairs' distances at its start included); the rest of the application's time is its
+    // sub-intervals' pushes and bounds.
+    double broadPhaseMs = 0;
     ContactReport& operator+=(const ContactReport& r) {  // two applications' work together
         applications += r.applications, subintervals += r.subintervals, selfPairs += r.selfPairs, near += r.near;
         limited += r.limited;
         regionCuts += r.regionCuts, passes += r.passes, overloaded += r.overloaded;
+        broadPhaseMs += r.broadPhaseMs;
         return *this;
     }
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -287,7 +288,9 @@ ContactReport ContactStage::apply(const Model& model, const std::vector<std::uin
         state.x.col(i) = x;
     };
     for (int pass = 0;; ++pass) {
+        const auto t0 = std::chrono::steady_clock::now();
         w.gather(*broad_, pinned, solids, settings, report);
+        report.broadPhaseMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (report.overloaded) {  // too many pairs to bound: the free particles keep the pass's uncrossed start
             for (Index i = 0; i < model.particleCount(); ++i)
                 if (!pinned[i]) place(i, w.y0.col(i));

@@ -43,7 +43,7 @@ bool writeSummary(const std::string& path, const RunFacts& f, const Profiler& pr
                         {"self_pairs", f.contact.selfPairs},
                         {"near_solids", f.contact.near}, {"moves_limited", f.contact.limited},
                         {"region_cuts", f.contact.regionCuts}, {"extra_passes", f.contact.passes},
-                        {"overloaded_steps", f.contact.overloaded}};
+                        {"overloaded_steps", f.contact.overloaded}, {"broad_phase_ms", f.contact.broadPhaseMs}};
     if (!f.meshDir.empty())
         j["export_mesh"] = {{"dir", f.meshDir}, {"files_written", f.meshesWritten}, {"error", f.meshError}};
     nlohmann::json phases = nlohmann::json::object();
