@@ -13,6 +13,8 @@ namespace {
 // A node (or two adjacent ones) whose normals lie within acos(kFlat) of one axis at every moment of
 // the step cannot fold onto itself: 85 degrees, a margin under Volino's 90 for rounding.
 constexpr Scalar kFlat = 0.087;
+// A bound on a merged cone's rounding above the narrower of its two cones' cosines (about 1e-16).
+constexpr Scalar kConeRounding = 1e-9;
 
 // The cosine of the widest angle to `axis` of a cone (c, cos of its half-angle cc): widestCos.
 Scalar widest(const Vec3& axis, const Vec3& c, Scalar cc) { return widestCos(c.dot(axis), cc); }
@@ -241,11 +243,14 @@ void BroadPhase::cross(int a, int b, Search& search) {
     const int span = std::max(std::max(A.c1, B.c1) - std::min(A.c0, B.c0), std::max(A.r1, B.r1) - std::min(A.r0, B.r0));
     if (span <= kExcludedCells) return;  // every pair within the springs' reach
     const bool adjacent = A.c0 <= B.c1 && B.c0 <= A.c1 && A.r0 <= B.r1 && B.r0 <= A.r1;
-    if (adjacent) {
+    // Two adjacent nodes whose joint cone is flat are one flat patch. The joint cone is no
+    // narrower than either node's (up to rounding, far under kConeRounding): when one is not
+    // flat, neither is it, and it is not computed.
+    if (adjacent && std::min(A.cosHalf, B.cosHalf) > kFlat - kConeRounding) {
         Vec3 axis;
         Scalar cosHalf = -1;
         mergeCones(A.axis, A.cosHalf, B.axis, B.cosHalf, axis, cosHalf);
-        if (cosHalf > kFlat) return;  // one flat patch
+        if (cosHalf > kFlat) return;
     }
     if (A.leaf() && B.leaf()) return leaves(a, b, search);
     const bool splitA = !A.leaf() && (B.leaf() || (A.c1 - A.c0) * (A.r1 - A.r0) >= (B.c1 - B.c0) * (B.r1 - B.r0));
@@ -260,9 +265,11 @@ void BroadPhase::leaves(int a, int b, Search& search) {
     const auto [at, first] = searched_.try_emplace((std::uint64_t(a) << 32) | std::uint32_t(b));
     Searched& s = at->second;
     if (first) {
-        fresh(nodes_[a]), fresh(nodes_[b]);
         candidates_.clear();
-        leafPairs(nodes_[a], nodes_[b], candidates_);
+        if (Meet meet; cellsMeet(nodes_[a], nodes_[b], meet)) {
+            fresh(nodes_[a]), fresh(nodes_[b]);
+            leafPairs(nodes_[a], nodes_[b], meet, candidates_);
+        }
         s.begin = keptPairs_.size(), s.found = candidates_.size();
         for (Pair& p : candidates_)
             if (search.keep(p)) keptPairs_.push_back(p);
@@ -272,36 +279,41 @@ void BroadPhase::leaves(int a, int b, Search& search) {
     search.out.insert(search.out.end(), keptPairs_.begin() + std::ptrdiff_t(s.begin), keptPairs_.begin() + std::ptrdiff_t(s.end));
 }
 
-void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out) const {
-    struct Cell {
-        int index, k, r, c;  // the cell, its place in its leaf, its row and column
-    };
-    auto cells = [&](const Node& n, auto fn) {
-        int k = 0;
-        for (int r = n.r0; r < n.r1; ++r)
-            for (int c = n.c0; c < n.c1; ++c) fn(Cell{r * (nx_ - 1) + c, k++, r, c});
-    };
-    // Two cells' primitives can form a pair only if the cells' boxes (each holding its triangles, and
-    // so the vertices and edges it owns) overlap and the cells are more than one cell apart: within
-    // one, every corner of one lies within kExcludedCells of every corner of the other. Tested once
-    // for each two cells (meet[a][b], a leaf has at most 2 x 2 cells).
+// A leaf's cells in order: each with its index, its place in the leaf, its row and column.
+template <class F>
+void BroadPhase::eachCell(const Node& n, F fn) const {
+    int k = 0;
+    for (int r = n.r0; r < n.r1; ++r)
+        for (int c = n.c0; c < n.c1; ++c) fn(Cell{r * (nx_ - 1) + c, k++, r, c});
+}
+
+// Two cells' primitives can form a pair only if the cells' boxes (each holding its triangles, and
+// so the vertices and edges it owns) overlap and the cells are more than one cell apart: within
+// one, every corner of one lies within kExcludedCells of every corner of the other. Tested once
+// for each two cells of two leaves (meet[a][b], a leaf has at most 2 x 2 cells), from the cells'
+// boxes alone, before the leaves' edges and triangles have boxes (fresh): false if no two meet.
+bool BroadPhase::cellsMeet(const Node& A, const Node& B, Meet& meet) const {
     static_assert(kExcludedCells >= 2, "cells within one of each other are skipped");
-    std::array<std::array<bool, 4>, 4> meet{};
+    meet = {};
     bool any = false;
-    cells(A, [&](const Cell& a) {
-        cells(B, [&](const Cell& b) {
+    eachCell(A, [&](const Cell& a) {
+        eachCell(B, [&](const Cell& b) {
             meet[a.k][b.k] = (std::abs(a.r - b.r) > 1 || std::abs(a.c - b.c) > 1) && cellBox_[a.index].overlaps(cellBox_[b.index]);
             any = any || meet[a.k][b.k];
         });
     });
-    if (!any) return;
+    return any;
+}
+
+// The candidates of two leaves whose cells meet (cellsMeet), after fresh.
+void BroadPhase::leafPairs(const Node& A, const Node& B, const Meet& meet, std::vector<Pair>& out) const {
     // A primitive whose box misses the other node's box meets none of its primitives (their boxes
     // lie in it): flagged once per node pair and skipped, which keeps the pairs and their order.
     using Flags = std::array<std::array<bool, 8>, 4>;  // a leaf: at most 2 x 2 cells
     auto flag = [&](const Node& n, const std::vector<std::vector<Index>>& lists, const std::vector<Box>& boxes,
                     const Box& other) {
         Flags f{};
-        cells(n, [&](const Cell& cell) {
+        eachCell(n, [&](const Cell& cell) {
             const auto& list = lists[cell.index];
             for (std::size_t i = 0; i < list.size() && i < 8; ++i) f[cell.k][i] = boxes[list[i]].overlaps(other);
         });
@@ -309,8 +321,8 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
     };
     auto vertexTriangles = [&](const Node& V, const Node& T, bool swapped) {
         const Flags in = flag(V, cellVertices_, vertexBox_, T.box);
-        cells(V, [&](const Cell& cv) {
-            cells(T, [&](const Cell& ct) {
+        eachCell(V, [&](const Cell& cv) {
+            eachCell(T, [&](const Cell& ct) {
                 if (!(swapped ? meet[ct.k][cv.k] : meet[cv.k][ct.k])) return;
                 const auto& vertices = cellVertices_[cv.index];
                 for (std::size_t i = 0; i < vertices.size(); ++i) {
@@ -325,8 +337,8 @@ void BroadPhase::leafPairs(const Node& A, const Node& B, std::vector<Pair>& out)
     };
     vertexTriangles(A, B, false), vertexTriangles(B, A, true);
     const Flags inB = flag(A, cellEdges_, edgeBox_, B.box);
-    cells(A, [&](const Cell& ca) {
-        cells(B, [&](const Cell& cb) {
+    eachCell(A, [&](const Cell& ca) {
+        eachCell(B, [&](const Cell& cb) {
             if (!meet[ca.k][cb.k]) return;
             const auto& edges = cellEdges_[ca.index];
             for (std::size_t i = 0; i < edges.size(); ++i) {

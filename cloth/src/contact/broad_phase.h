@@ -91,7 +91,14 @@ private:
     void self(int n, Search& search);
     void cross(int a, int b, Search& search);
     void leaves(int a, int b, Search& search);
-    void leafPairs(const Node& a, const Node& b, std::vector<Pair>& out) const;
+    struct Cell {
+        int index, k, r, c;  // the cell, its place in its leaf, its row and column
+    };
+    template <class F>
+    void eachCell(const Node& n, F fn) const;
+    using Meet = std::array<std::array<bool, 4>, 4>;  // two leaves' cells that may hold a pair
+    bool cellsMeet(const Node& a, const Node& b, Meet& meet) const;
+    void leafPairs(const Node& a, const Node& b, const Meet& meet, std::vector<Pair>& out) const;
     bool far(Index u, Index v) const;  // more than kExcludedCells cells apart
     bool farTriangle(Index v, Index t) const;
     bool farEdges(Index e, Index f) const;
