@@ -4,10 +4,15 @@ contact (profile.csv of a flagsim run), mean, median and 99th percentile, agains
 budget, and the mean's and the median's ratios to the demo's run at the same size in the same call
 (LABEL up to "_stiff", "_true" or "_contact"), to the same run without contact (LABEL_no_contact,
 or for LABEL_contact, LABEL) and, for a LABEL with "_2threads", to the same run on one thread.
+Then, for each run with contact (its summary.json beside the profile has `contact`), where
+contact's time goes: its broad phase and its sub-intervals, per frame, per application and against
+the cloth's other phases.
 
     tools/bench_cloth_budget.py LABEL:BUDGET_MS:PROFILE_CSV ...
 """
 import csv
+import json
+import os
 import re
 import statistics
 import sys
@@ -63,6 +68,37 @@ def main():
               f"{'yes' if means[label] <= budget else 'no'} | {ratio(means, label, base)} | {ratio(medians, label, base)} | "
               f"{ratio(means, label, plain)} | {ratio(medians, label, plain)} | {ratio(means, label, single)} | "
               f"{ratio(p99s, label, single)} |")
+    print_contact_split(sys.argv[1:])
+
+
+def contact_split(label, path):
+    """A table row of contact's broad phase and sub-intervals for the run of `path`, or None."""
+    summary = os.path.join(os.path.dirname(path), "summary.json")
+    if not os.path.exists(summary):
+        return None
+    with open(summary) as f:
+        c = json.load(f).get("contact")
+    if not c or "broad_phase_ms" not in c:
+        return None
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    contact = sum(float(r.get("contact") or 0) for r in rows)
+    other = sum(float(r.get(p) or 0) for r in rows for p in PHASES if p != "contact")
+    broad, frames, apps = c["broad_phase_ms"], len(rows), max(1, c["applications"])
+    return (f"| {label} | {contact / frames:.2f} | {broad / frames:.2f} | {(contact - broad) / frames:.2f} | "
+            f"{1000 * broad / apps:.0f} | {1000 * (contact - broad) / apps:.0f} | {broad / other:.2f} | "
+            f"{(contact - broad) / other:.2f} |")
+
+
+def print_contact_split(args):
+    split = [row for row in (contact_split(*arg.split(":", 2)[::2]) for arg in args) if row]
+    if not split:
+        return
+    print()
+    print("| run with contact | contact (ms/frame) | broad phase | sub-intervals | broad phase (us/application) | "
+          "sub-intervals (us/application) | broad phase x the other phases | sub-intervals x the other phases |")
+    print("|---|---|---|---|---|---|---|---|")
+    print("\n".join(split))
 
 
 if __name__ == "__main__":
