@@ -66,4 +66,13 @@ Points randomPoints(int n, Scalar magnitude, unsigned seed) {
     return p;
 }
 
+RigidFrame turningCarrier(double t) {
+    RigidFrame c;
+    c.position = Vec3(0, 0, 3 * t * t);
+    c.linearVelocity = Vec3(0, 0, 6 * t);
+    c.rotation = Eigen::AngleAxisd(0.8 * t, Vec3::UnitY());
+    c.angularVelocity = Vec3(0, 0.8, 0);
+    return c;
+}
+
 }  // namespace cloth::test

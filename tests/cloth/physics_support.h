@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "cloth/model.h"
+#include "cloth/rigid_frame.h"
 #include "cloth/solvers/multigrid_settings.h"
 #include "cloth/solver.h"
 #include "cloth/system.h"
@@ -55,5 +56,9 @@ inline StepInput stepInput(Scalar h, const std::vector<Pin>& pins, const Points*
 
 // Pins on column 0 whose targets are off the current positions and move: the general case.
 std::vector<Pin> movingPins(const Cloth& c, unsigned seed);
+
+// A carrier moving and turning (3t^2 m along +z, 0.8 rad/s about +y), so that the air, the pins
+// and the pole all matter.
+RigidFrame turningCarrier(double t);
 
 }  // namespace cloth::test

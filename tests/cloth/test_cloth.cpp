@@ -7,6 +7,7 @@
 #include "cloth/cloth.h"
 #include "cloth/crossings.h"
 #include "cloth/flag_on_pole.h"
+#include "physics_support.h"
 
 using namespace cloth;
 
@@ -23,14 +24,7 @@ ClothSettings flagSettings(const std::string& solver) {
 }
 
 // A carrier moving and turning, so that the air, the pins and the pole all matter.
-RigidFrame carrierAt(double t) {
-    RigidFrame c;
-    c.position = Vec3(0, 0, 3 * t * t);
-    c.linearVelocity = Vec3(0, 0, 6 * t);
-    c.rotation = Eigen::AngleAxisd(0.8 * t, Vec3::UnitY());
-    c.angularVelocity = Vec3(0, 0.8, 0);
-    return c;
-}
+RigidFrame carrierAt(double t) { return test::turningCarrier(t); }
 
 // The stages made by hand: the pins on the carrier, the air with its implicit blocks, the
 // solver's step, then the colliders, each exactly once per tick.

@@ -17,8 +17,10 @@
 #include "cloth/cloth.h"
 #include "cloth/flag_on_pole.h"
 #include "cloth/task_system.h"
+#include "physics_support.h"
 
 using namespace cloth;
+using cloth::test::turningCarrier;
 
 namespace {
 
@@ -89,15 +91,6 @@ public:
 private:
     std::vector<std::function<void()>> tasks_;
 };
-
-RigidFrame turningCarrier(double t) {
-    RigidFrame c;
-    c.position = Vec3(0, 0, 3 * t * t);
-    c.linearVelocity = Vec3(0, 0, 6 * t);
-    c.rotation = Eigen::AngleAxisd(0.8 * t, Vec3::UnitY());
-    c.angularVelocity = Vec3(0, 0.8, 0);
-    return c;
-}
 
 // The flag at 17x17 on `solver`, in the wind on the turning carrier, with its pole, tethers, the
 // stretch limit and contact: what the true-motion scene runs.
