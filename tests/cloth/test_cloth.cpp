@@ -10,6 +10,7 @@
 #include "physics_support.h"
 
 using namespace cloth;
+using cloth::test::turningCarrier;
 
 namespace {
 
@@ -22,9 +23,6 @@ ClothSettings flagSettings(const std::string& solver) {
     s.collisions = true;
     return s;
 }
-
-// A carrier moving and turning, so that the air, the pins and the pole all matter.
-RigidFrame carrierAt(double t) { return test::turningCarrier(t); }
 
 // The stages made by hand: the pins on the carrier, the air with its implicit blocks, the
 // solver's step, then the colliders, each exactly once per tick.
@@ -60,12 +58,12 @@ TEST(Cloth, StepsItsStagesInOrderAsTheLibraryCallsMadeByHand) {
     Pole pole;
     const ClothDesc desc = flagOnPole(f, pole, 0.015);
     const ClothSettings s = flagSettings("kangcho");
-    Cloth cloth(desc, s, carrierAt(0));
+    Cloth cloth(desc, s, turningCarrier(0));
     std::unique_ptr<Solver> solver = makeSolver(s.solver);
     State byHand = cloth.state();
     const double h = 1.0 / 240;
     for (int k = 1; k <= 240; ++k) {
-        const RigidFrame c = carrierAt(k * h);
+        const RigidFrame c = turningCarrier(k * h);
         const std::vector<Collider> colliders = collidersAt(pole, c);
         cloth.step(h, c, colliders);
         stepByHand(desc, s, *solver, byHand, h, c, colliders);
@@ -78,8 +76,8 @@ TEST(Cloth, StepsItsStagesInOrderAsTheLibraryCallsMadeByHand) {
     // And the colliders mattered: without them the same run ends elsewhere.
     ClothSettings noCollisions = s;
     noCollisions.collisions = false;
-    Cloth free(desc, noCollisions, carrierAt(0));
-    for (int k = 1; k <= 240; ++k) free.step(h, carrierAt(k * h), collidersAt(pole, carrierAt(k * h)));
+    Cloth free(desc, noCollisions, turningCarrier(0));
+    for (int k = 1; k <= 240; ++k) free.step(h, turningCarrier(k * h), collidersAt(pole, turningCarrier(k * h)));
     EXPECT_GT((free.state().x - cloth.state().x).cwiseAbs().maxCoeff(), 1e-6);
 }
 
@@ -90,8 +88,8 @@ TEST(Cloth, AttachmentsLandOnTheCarrierAndTheProfileCountsEveryStage) {
     const ClothDesc desc = flagOnPole(f, pole, 0.015);
     ClothSettings s = flagSettings("kangcho");
     s.substeps = 3;
-    Cloth cloth(desc, s, carrierAt(0));
-    const RigidFrame c = carrierAt(0.1);
+    Cloth cloth(desc, s, turningCarrier(0));
+    const RigidFrame c = turningCarrier(0.1);
     EXPECT_TRUE(cloth.step(1.0 / 60, c, {poleCollider(pole, c)}));
     EXPECT_EQ(cloth.steps(), 3);
     for (const Attachment& a : desc.attachments)
