@@ -1,9 +1,10 @@
 #pragma once
 // A barrier for a few threads that meet thousands of times a second (the small_steps solver's
-// substeps): each spins on a generation counter, yielding after 20,000 spins (tens of
+// substeps): each spins on a generation counter, yielding after kSpinsBeforeYield spins (tens of
 // microseconds) so that a descheduled partner gets the core back. No system call in the common
-// case: at 65x65 a partner a few microseconds behind is common, and yielding after 2,000 spins
-// sent the waiting thread into the scheduler at most barriers.
+// case: at 65x65 a partner a few microseconds behind is common, and a waiting thread that yielded
+// sooner would go into the scheduler at most barriers (docs/performance.md, The stiff flag at
+// 65x65 on two threads).
 
 #include <atomic>
 #include <thread>
@@ -21,10 +22,11 @@ public:
             return;
         }
         for (int spins = 0; generation_.load(std::memory_order_acquire) == generation; ++spins)
-            if (spins > 20000) std::this_thread::yield();
+            if (spins > kSpinsBeforeYield) std::this_thread::yield();
     }
 
 private:
+    static constexpr int kSpinsBeforeYield = 20000;
     const int threads_;
     std::atomic<int> arrived_{0};
     std::atomic<unsigned> generation_{0};
