@@ -83,7 +83,7 @@ void ThreadPool::run(int n, const std::function<void(int, int)>& fn) {
         generation_.fetch_add(1, std::memory_order_acq_rel);
         generation_.notify_all();
     }
-    r.claim();  // chunk 0 first, then any a worker has not started: a late worker costs no wait
+    r.claim();  // every chunk no worker or helper has started: a late one costs no wait
     for (int spins = 0; r.done.load(std::memory_order_acquire) != threads_; ++spins)
         if (spins > 1000) std::this_thread::yield();
     if (r.timed)

@@ -3,9 +3,9 @@
 // contiguous chunk per thread; the split depends only on n and the thread count, and each index
 // is processed by exactly one call, so a kernel that writes only its own indices gives the same
 // bits for any thread count. Each chunk is claimed once, by whichever thread gets to it first: the
-// calling thread takes chunk 0, then every chunk no worker has started, so a worker that the
-// scheduler has taken off its core (the other core busy, as in a game) costs the region no wait
-// unless it is inside its chunk. Workers spin for up to kSpin between jobs: a cloth step has many
+// calling thread claims every chunk that no worker has started (usually chunk 0 first), so a
+// worker that the scheduler has taken off its core (the other core busy, as in a game) costs the
+// region no wait unless it is inside its chunk. Workers spin for up to kSpin between jobs: a cloth step has many
 // short parallel regions and a sleeping thread takes longer to wake than a region lasts; after
 // that they sleep on the counter (futex), so an idle pool costs nothing. With a host's task system
 // (useHost, cloth/task_system.h) the pool starts no thread of its own: each region hands the host
@@ -30,8 +30,8 @@ public:
     ThreadPool& operator=(const ThreadPool&) = delete;
 
     int threads() const { return threads_; }
-    // Calls fn(begin, end) for each chunk; the calling thread takes chunk 0 and any chunk not yet
-    // started. Returns when all are done.
+    // Calls fn(begin, end) for each chunk; the calling thread takes any chunk not yet claimed.
+    // Returns when all are done.
     void run(int n, const std::function<void(int, int)>& fn);
     // The host's task system runs the helpers from now on (null: the pool's own threads, started
     // at the next region). Not during run(); the host must outlive its use here.
