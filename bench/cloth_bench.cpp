@@ -24,37 +24,18 @@
 #include "cloth/solver.h"
 #include "cloth/solver_config.h"
 #include "cloth/constraints.h"
+#include "swung_pole.h"
 #ifdef FLAGSIM_HAS_BULLET_PEER
 #include "peers/bullet_cloth.h"
 #endif
 
 namespace {
 
-constexpr double kH = 1.0 / 240;
+using bench::flagOfSize;
+using bench::inputOfStep;
+using bench::kH;
+using bench::Pole;
 constexpr int kWindow = 60;  // timed steps before the state is put back
-
-cloth::HangingFlag flagOfSize(int n) {
-    cloth::HangingFlagDesc d;
-    d.nx = d.ny = n;
-    return cloth::makeHangingFlag(d);
-}
-
-enum class Pole { Still, Swung };
-
-// The input of step s (at t = s h): the flag's own pins, or pins moved with the swung pole, a
-// horizontal circle of radius 0.15 m at 2 Hz through the flag's plane and across it (the flag
-// hangs in x-y from column 0).
-cloth::StepInput inputOfStep(const cloth::HangingFlag& flag, Pole pole, int s) {
-    cloth::StepInput in;
-    in.h = kH;
-    in.pins = flag.pins;
-    if (pole == Pole::Still) return in;
-    const double w = 2 * 3.14159265358979323846 * 2, r = 0.15, t = s * kH;
-    const cloth::Vec3 d(r * std::sin(w * t), 0, r * (1 - std::cos(w * t)));
-    const cloth::Vec3 v(r * w * std::cos(w * t), 0, r * w * std::sin(w * t));
-    for (cloth::Pin& p : in.pins) p.x += d, p.v = v;
-    return in;
-}
 
 // Multigrid's tuning next to what the study settled (cloth/solver.h, MultigridTuning).
 using Tune = void (*)(cloth::MultigridTuning&);
