@@ -66,11 +66,13 @@ void BroadPhase::prepare(const Model& model) {
             }
         }
     }
-    cellCorners_.assign(cells, {});
+    corners_.clear(), cornerStart_.assign(1, 0);
     for (int c = 0; c < cells; ++c) {
-        for (Index t : cellTriangles_[c]) cellCorners_[c].insert(cellCorners_[c].end(), triangles_[t].begin(), triangles_[t].end());
-        std::sort(cellCorners_[c].begin(), cellCorners_[c].end());
-        cellCorners_[c].erase(std::unique(cellCorners_[c].begin(), cellCorners_[c].end()), cellCorners_[c].end());
+        std::vector<Index> corners;
+        for (Index t : cellTriangles_[c]) corners.insert(corners.end(), triangles_[t].begin(), triangles_[t].end());
+        std::sort(corners.begin(), corners.end());
+        corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+        corners_.insert(corners_.end(), corners.begin(), corners.end()), cornerStart_.push_back(corners_.size());
     }
     cellStamp_.assign(cells, 0), stamp_ = 0;
     edgeBox_.resize(edges_.size()), triangleBox_.resize(triangles_.size());
@@ -81,11 +83,11 @@ void BroadPhase::prepare(const Model& model) {
     }
     nodes_.clear();
     build(0, nx_ - 1, 0, ny_ - 1);
-    leafOrder_.clear(), leaves_.clear(), leafStart_.assign(1, 0);
+    leafCorners_.clear(), leaves_.clear(), leafStart_.assign(1, 0);
     for (int n = 0; n < int(nodes_.size()); ++n) {
         if (!nodes_[n].leaf()) continue;
-        eachTriangle(nodes_[n], [&](Index t) { leafOrder_.push_back(t); });
-        leaves_.push_back(n), leafStart_.push_back(leafOrder_.size());
+        eachTriangle(nodes_[n], [&](Index t) { leafCorners_.add(triangles_[t]); });
+        leaves_.push_back(n), leafStart_.push_back(leafCorners_.size());
     }
     leafAxis_.assign(leaves_.size(), Vec3::UnitZ());
 }
@@ -110,22 +112,25 @@ int BroadPhase::build(int c0, int c1, int r0, int r1) {
 void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, Scalar margin) {
     if (model.id() != model_) prepare(model);
     const Index n = model.particleCount();
-    vertexBox_.resize(n);
+    vertexBox_.resize(n), halfMove_.resize(n);
     for (Index i = 0; i < n; ++i) {
-        Box& b = vertexBox_[i];
-        b.lo = y0.col(i).cwiseMin(y1.col(i)), b.hi = y0.col(i).cwiseMax(y1.col(i));
-        b.lo.array() -= margin / 2, b.hi.array() += margin / 2;
+        const Vec3 a = y0.col(i), b = y1.col(i);
+        Box& box = vertexBox_[i];
+        box.lo = a.cwiseMin(b).array() - margin / 2, box.hi = a.cwiseMax(b).array() + margin / 2;
+        halfMove_[i] = 0.5 * (b - a).norm();
     }
     // A cell's box holds its triangles' corners; its edges' and triangles' own boxes are made
     // when a search first reaches the cell (fresh).
-    cellBox_.assign(cellCorners_.size(), Box{});
-    for (std::size_t c = 0; c < cellCorners_.size(); ++c)
-        for (Index v : cellCorners_[c]) cellBox_[c].add(vertexBox_[v]);
+    cellBox_.resize(cornerStart_.size() - 1);
+    for (std::size_t c = 0; c + 1 < cornerStart_.size(); ++c) {
+        const std::size_t begin = cornerStart_[c], end = cornerStart_[c + 1];
+        Box& box = cellBox_[c];
+        box = begin < end ? vertexBox_[corners_[begin]] : Box{};
+        for (std::size_t k = begin + 1; k < end; ++k) box.add(vertexBox_[corners_[k]]);
+    }
     ++stamp_;
-    halfMove_.resize(n);
-    for (Index i = 0; i < n; ++i) halfMove_[i] = 0.5 * (y1.col(i) - y0.col(i)).norm();
     margin_ = margin;
-    refitBoxes(0);
+    refitBoxes();
     searched_.clear(), keptPairs_.clear();
 }
 
@@ -133,7 +138,7 @@ void BroadPhase::widen(const Points& y0, const Points& y1, const std::vector<std
     const Index n = Index(halfMove_.size());
     reach_.resize(n);
     for (Index i = 0; i < n; ++i) reach_[i] = halfMove_[i] + (pushed.empty() || !pushed[i] ? 0 : margin_ / 2);
-    motionCones(y0, y1, reach_, triangles_, coneScratch_, cones_);
+    motionCones(y0, y1, reach_, leafCorners_, coneScratch_, cones_);
     leafCones();
     refitCones(0);
 }
@@ -146,18 +151,18 @@ void BroadPhase::eachTriangle(const Node& node, F fn) const {
             for (Index t : cellTriangles_[r * (nx_ - 1) + c]) fn(t);
 }
 
-void BroadPhase::refitBoxes(int n) {
-    Node& node = nodes_[n];
-    node.box = Box{};
-    if (node.leaf()) {
-        for (int r = node.r0; r < node.r1; ++r)
-            for (int c = node.c0; c < node.c1; ++c) node.box.add(cellBox_[r * (nx_ - 1) + c]);
-        return;
-    }
-    for (int c : node.child) {
-        if (c < 0) continue;
-        refitBoxes(c);
-        nodes_[n].box.add(nodes_[c].box);
+// Every node's box, children before parents (a child's index is above its parent's, build).
+void BroadPhase::refitBoxes() {
+    for (std::size_t n = nodes_.size(); n-- > 0;) {
+        Node& node = nodes_[n];
+        node.box = Box{};
+        if (node.leaf()) {
+            for (int r = node.r0; r < node.r1; ++r)
+                for (int c = node.c0; c < node.c1; ++c) node.box.add(cellBox_[r * (nx_ - 1) + c]);
+            continue;
+        }
+        for (int c : node.child)
+            if (c >= 0) node.box.add(nodes_[std::size_t(c)].box);
     }
 }
 
@@ -166,10 +171,10 @@ void BroadPhase::refitBoxes(int n) {
 void BroadPhase::leafCones() {
     for (std::size_t j = 0; j < leaves_.size(); ++j) {
         Vec3 sum = Vec3::Zero();
-        for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) sum += cones_.axis(std::size_t(leafOrder_[k]));
+        for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) sum += cones_.axis(k);
         nodes_[std::size_t(leaves_[j])].axis = leafAxis_[j] = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
     }
-    widestToAxes(cones_, leafOrder_, leafStart_, leafAxis_, coneScratch_, widest_);
+    widestToAxes(cones_, leafStart_, leafAxis_, coneScratch_, widest_);
     for (std::size_t j = 0; j < leaves_.size(); ++j) {
         Scalar cosHalf = 1;
         for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) cosHalf = std::min(cosHalf, widest_[k]);
@@ -260,16 +265,17 @@ void BroadPhase::cross(int a, int b, Search& search) {
 }
 
 // Two leaves' kept pairs: searched and kept at their first meeting since the refit (the boxes
-// and so the candidates are the same until the next), reused after.
+// and so the candidates are the same until the next), reused after. Leaves none of whose cells
+// meet have none, which is found again faster than it is looked up.
 void BroadPhase::leaves(int a, int b, Search& search) {
+    Meet meet;
+    if (!cellsMeet(nodes_[a], nodes_[b], meet)) return;
     const auto [at, first] = searched_.try_emplace((std::uint64_t(a) << 32) | std::uint32_t(b));
     Searched& s = at->second;
     if (first) {
         candidates_.clear();
-        if (Meet meet; cellsMeet(nodes_[a], nodes_[b], meet)) {
-            fresh(nodes_[a]), fresh(nodes_[b]);
-            leafPairs(nodes_[a], nodes_[b], meet, candidates_);
-        }
+        fresh(nodes_[a]), fresh(nodes_[b]);
+        leafPairs(nodes_[a], nodes_[b], meet, candidates_);
         s.begin = keptPairs_.size(), s.found = candidates_.size();
         for (Pair& p : candidates_)
             if (search.keep(p)) keptPairs_.push_back(p);

@@ -78,7 +78,7 @@ private:
     int build(int c0, int c1, int r0, int r1);
     template <class F>
     void eachTriangle(const Node& node, F fn) const;
-    void refitBoxes(int n);
+    void refitBoxes();
     void fresh(const Node& leaf);
     void leafCones();
     void refitCones(int n);
@@ -112,19 +112,20 @@ private:
     // Per cell: its triangles, the vertices and edges it owns.
     std::vector<std::vector<Index>> cellTriangles_, cellVertices_, cellEdges_;
     std::vector<Box> vertexBox_, edgeBox_, triangleBox_, cellBox_;
-    std::vector<std::vector<Index>> cellCorners_;  // per cell: its triangles' corners
+    std::vector<Index> corners_;                   // the cells' triangles' corners, cell by cell
+    std::vector<std::size_t> cornerStart_;         // cell c's: corners_[cornerStart_[c], cornerStart_[c + 1])
     std::vector<std::uint64_t> cellStamp_;         // per cell: the refit its edges' and triangles' boxes are of
     std::uint64_t stamp_ = 0;                      // refits since prepare
     Scalar margin_ = 0;
     std::vector<Scalar> halfMove_;   // half each particle's straight move over the step (refit)
     std::vector<Scalar> reach_;      // each particle's distance from its move's midpoint, at most
-    Cones cones_;                    // each triangle's normal cone over the step
+    Corners leafCorners_;            // the triangles leaf by leaf, each leaf's in eachTriangle's order
+    Cones cones_;                    // each leafCorners_ triangle's normal cone over the step
     ConeScratch coneScratch_;
-    std::vector<Index> leafOrder_;   // the triangles leaf by leaf, each leaf's in eachTriangle's order
     std::vector<int> leaves_;        // the leaves, in node order
-    std::vector<std::size_t> leafStart_;  // leaves_[j]'s triangles: leafOrder_[leafStart_[j], leafStart_[j + 1])
+    std::vector<std::size_t> leafStart_;  // leaves_[j]'s triangles: [leafStart_[j], leafStart_[j + 1]) of leafCorners_
     std::vector<Vec3> leafAxis_;     // per leaves_ entry: its axis (the normalized sum of its triangles')
-    std::vector<Scalar> widest_;     // per leafOrder_ entry: the cosine of its cone's widest angle to its leaf's axis
+    std::vector<Scalar> widest_;     // per leafCorners_ triangle: the cosine of its cone's widest angle to its leaf's axis
     // Since the last refit: each two leaves searched (key a << 32 | b), their kept pairs in
     // keptPairs_ [begin, end) and their candidates' count.
     struct Searched {

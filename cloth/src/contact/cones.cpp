@@ -8,19 +8,24 @@ namespace cloth::contact {
 
 namespace {
 
-// n = a x b, e = da |b| + |a| db + da db, len = |n|: flipped (every direction) where e >= len,
-// else axis n / len and cosHalf sqrt(1 - (e / len)^2).
-CLOTH_SIMD_CLONES void coneLoop(const ConeScratch& s, int count, Scalar* __restrict x, Scalar* __restrict y,
-                                Scalar* __restrict z, Scalar* __restrict cosHalf) {
-    const Scalar *__restrict ax = s.ax.data(), *__restrict ay = s.ay.data(), *__restrict az = s.az.data();
-    const Scalar *__restrict bx = s.bx.data(), *__restrict by = s.by.data(), *__restrict bz = s.bz.data();
-    const Scalar *__restrict da = s.da.data(), *__restrict db = s.db.data();
+// Triangle t's edges a = m[b[t]] - m[a[t]] and b = m[c[t]] - m[a[t]] at the midpoints m, their
+// ends' reaches da and db; n = a x b, e = da |b| + |a| db + da db, len = |n|: flipped (every
+// direction) where e >= len, else axis n / len and cosHalf sqrt(1 - (e / len)^2).
+CLOTH_SIMD_CLONES void coneLoop(const ConeScratch& s, const Scalar* __restrict reach, const Corners& tri, int count,
+                                Scalar* __restrict x, Scalar* __restrict y, Scalar* __restrict z,
+                                Scalar* __restrict cosHalf) {
+    const Scalar *__restrict mx = s.mx.data(), *__restrict my = s.my.data(), *__restrict mz = s.mz.data();
+    const Index *__restrict i0 = tri.a.data(), *__restrict i1 = tri.b.data(), *__restrict i2 = tri.c.data();
 CLOTH_IVDEP
     for (int t = 0; t < count; ++t) {
-        const Scalar nx = ay[t] * bz[t] - az[t] * by[t], ny = az[t] * bx[t] - ax[t] * bz[t], nz = ax[t] * by[t] - ay[t] * bx[t];
-        const Scalar an = std::sqrt(ax[t] * ax[t] + ay[t] * ay[t] + az[t] * az[t]);
-        const Scalar bn = std::sqrt(bx[t] * bx[t] + by[t] * by[t] + bz[t] * bz[t]);
-        const Scalar e = da[t] * bn + an * db[t] + da[t] * db[t];
+        const Index p = i0[t], q = i1[t], r = i2[t];
+        const Scalar ax = mx[q] - mx[p], ay = my[q] - my[p], az = mz[q] - mz[p];
+        const Scalar bx = mx[r] - mx[p], by = my[r] - my[p], bz = mz[r] - mz[p];
+        const Scalar da = reach[p] + reach[q], db = reach[p] + reach[r];
+        const Scalar nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+        const Scalar an = std::sqrt(ax * ax + ay * ay + az * az);
+        const Scalar bn = std::sqrt(bx * bx + by * by + bz * bz);
+        const Scalar e = da * bn + an * db + da * db;
         const Scalar len = std::sqrt(nx * nx + ny * ny + nz * nz);
         const bool flips = e >= len;
         const Scalar safe = flips ? Scalar(1) : len;
@@ -32,53 +37,36 @@ CLOTH_IVDEP
     }
 }
 
-// widestCos of each entry's cone axis (c) to its group's axis (u).
-CLOTH_SIMD_CLONES void widestLoop(const ConeScratch& s, int count, Scalar* __restrict widest) {
-    const Scalar *__restrict cx = s.cx.data(), *__restrict cy = s.cy.data(), *__restrict cz = s.cz.data();
+// widestCos of each cone (c, cc) to its group's axis (u).
+CLOTH_SIMD_CLONES void widestLoop(const Cones& c, const ConeScratch& s, int count, Scalar* __restrict widest) {
+    const Scalar *__restrict cx = c.x.data(), *__restrict cy = c.y.data(), *__restrict cz = c.z.data();
     const Scalar *__restrict ux = s.ux.data(), *__restrict uy = s.uy.data(), *__restrict uz = s.uz.data();
-    const Scalar* __restrict cc = s.cc.data();
+    const Scalar* __restrict cc = c.cosHalf.data();
 CLOTH_IVDEP
     for (int k = 0; k < count; ++k) widest[k] = widestCos(cx[k] * ux[k] + cy[k] * uy[k] + cz[k] * uz[k], cc[k]);
 }
 
 }  // namespace
 
-void motionCones(const Points& y0, const Points& y1, const std::vector<Scalar>& reach,
-                 const std::vector<Triangle>& triangles, ConeScratch& s, Cones& out) {
-    const std::size_t n = triangles.size(), particles = std::size_t(y0.cols());
-    Scalar* m[3] = {nullptr, nullptr, nullptr};
-    for (int axis = 0; axis < 3; ++axis) {
-        std::vector<Scalar>& v = axis == 0 ? s.mx : axis == 1 ? s.my : s.mz;
-        v.resize(particles), m[axis] = v.data();
-        for (std::size_t i = 0; i < particles; ++i) v[i] = 0.5 * (y0(axis, Index(i)) + y1(axis, Index(i)));
-    }
-    for (auto* v : {&s.ax, &s.ay, &s.az, &s.bx, &s.by, &s.bz, &s.da, &s.db}) v->resize(n);
-    Scalar* a[3] = {s.ax.data(), s.ay.data(), s.az.data()};
-    Scalar* b[3] = {s.bx.data(), s.by.data(), s.bz.data()};
-    for (std::size_t t = 0; t < n; ++t) {
-        const Triangle& tri = triangles[t];
-        for (int axis = 0; axis < 3; ++axis) {
-            const Scalar m0 = m[axis][tri[0]];
-            a[axis][t] = m[axis][tri[1]] - m0, b[axis][t] = m[axis][tri[2]] - m0;
-        }
-        s.da[t] = reach[tri[0]] + reach[tri[1]], s.db[t] = reach[tri[0]] + reach[tri[2]];
-    }
-    out.resize(n);
-    coneLoop(s, int(n), out.x.data(), out.y.data(), out.z.data(), out.cosHalf.data());
+void motionCones(const Points& y0, const Points& y1, const std::vector<Scalar>& reach, const Corners& triangles,
+                 ConeScratch& s, Cones& out) {
+    const std::size_t particles = std::size_t(y0.cols());
+    for (auto* v : {&s.mx, &s.my, &s.mz}) v->resize(particles);
+    const Scalar *p0 = y0.data(), *p1 = y1.data();
+    for (std::size_t i = 0; i < particles; ++i, p0 += 3, p1 += 3)
+        s.mx[i] = 0.5 * (p0[0] + p1[0]), s.my[i] = 0.5 * (p0[1] + p1[1]), s.mz[i] = 0.5 * (p0[2] + p1[2]);
+    out.resize(triangles.size());
+    coneLoop(s, reach.data(), triangles, int(triangles.size()), out.x.data(), out.y.data(), out.z.data(), out.cosHalf.data());
 }
 
-void widestToAxes(const Cones& cones, const std::vector<Index>& order, const std::vector<std::size_t>& start,
-                  const std::vector<Vec3>& axes, ConeScratch& s, std::vector<Scalar>& widest) {
-    const std::size_t n = order.size();
-    for (auto* v : {&s.cx, &s.cy, &s.cz, &s.cc, &s.ux, &s.uy, &s.uz}) v->resize(n);
+void widestToAxes(const Cones& cones, const std::vector<std::size_t>& start, const std::vector<Vec3>& axes,
+                  ConeScratch& s, std::vector<Scalar>& widest) {
+    const std::size_t n = cones.cosHalf.size();
+    for (auto* v : {&s.ux, &s.uy, &s.uz}) v->resize(n);
     for (std::size_t j = 0; j + 1 < start.size(); ++j)
-        for (std::size_t k = start[j]; k < start[j + 1]; ++k) {
-            const Index t = order[k];
-            s.cx[k] = cones.x[t], s.cy[k] = cones.y[t], s.cz[k] = cones.z[t], s.cc[k] = cones.cosHalf[t];
-            s.ux[k] = axes[j].x(), s.uy[k] = axes[j].y(), s.uz[k] = axes[j].z();
-        }
+        for (std::size_t k = start[j]; k < start[j + 1]; ++k) s.ux[k] = axes[j].x(), s.uy[k] = axes[j].y(), s.uz[k] = axes[j].z();
     widest.resize(n);
-    widestLoop(s, int(n), widest.data());
+    widestLoop(cones, s, int(n), widest.data());
 }
 
 }  // namespace cloth::contact

@@ -19,11 +19,18 @@ struct Cones {
     Vec3 axis(std::size_t i) const { return {x[i], y[i], z[i]}; }
 };
 
-// The loops' inputs, gathered into arrays (kept between calls so that they are not reallocated).
+// Triangles as arrays of their corners: triangle t is (a[t], b[t], c[t]).
+struct Corners {
+    std::vector<Index> a, b, c;
+    void add(const Triangle& t) { a.push_back(t[0]), b.push_back(t[1]), c.push_back(t[2]); }
+    void clear() { a.clear(), b.clear(), c.clear(); }
+    std::size_t size() const { return a.size(); }
+};
+
+// The loops' inputs as arrays (kept between calls so that they are not reallocated).
 struct ConeScratch {
-    std::vector<Scalar> mx, my, mz;                      // motionCones: each particle's midpoint
-    std::vector<Scalar> ax, ay, az, bx, by, bz, da, db;  // and each triangle's edges and reaches
-    std::vector<Scalar> cx, cy, cz, cc, ux, uy, uz;      // widestToAxes: its cone and its leaf's axis
+    std::vector<Scalar> mx, my, mz;  // motionCones: each particle's midpoint
+    std::vector<Scalar> ux, uy, uz;  // widestToAxes: each cone's group's axis
 };
 
 // Every triangle's cone over the step from y0 to y1, whatever path each corner takes within
@@ -31,8 +38,8 @@ struct ConeScratch {
 // moving at most the sum of its ends' reaches (da, db), the normal a x b moves at most
 // e = da |b| + |a| db + da db, so it stays within asin(e / |a x b|) of the midpoint's normal. A
 // triangle that could flip (e >= |a x b|) holds every direction (axis +z, cosHalf -1).
-void motionCones(const Points& y0, const Points& y1, const std::vector<Scalar>& reach,
-                 const std::vector<Triangle>& triangles, ConeScratch& scratch, Cones& out);
+void motionCones(const Points& y0, const Points& y1, const std::vector<Scalar>& reach, const Corners& triangles,
+                 ConeScratch& scratch, Cones& out);
 
 // The cosine of the widest angle to an axis of a cone whose axis has the cosine `dot` to it and
 // whose half-angle has the cosine `cc`: cos(t + w) = cos t cos w - sin t sin w, with no inverse
@@ -46,10 +53,9 @@ CLOTH_INLINE inline Scalar widestCos(Scalar dot, Scalar cc) {
     return all ? Scalar(-1) : ct * cw - std::sqrt(product);
 }
 
-// The triangles in `order`, in groups: group j is order[start[j], start[j + 1]), with the axis
-// axes[j]. For order[k], the cosine of its cone's widest angle to its group's axis (widestCos),
-// written to widest[k].
-void widestToAxes(const Cones& cones, const std::vector<Index>& order, const std::vector<std::size_t>& start,
-                  const std::vector<Vec3>& axes, ConeScratch& scratch, std::vector<Scalar>& widest);
+// The cones in groups: group j is cones [start[j], start[j + 1]), with the axis axes[j]. For cone
+// k, the cosine of its widest angle to its group's axis (widestCos), written to widest[k].
+void widestToAxes(const Cones& cones, const std::vector<std::size_t>& start, const std::vector<Vec3>& axes,
+                  ConeScratch& scratch, std::vector<Scalar>& widest);
 
 }  // namespace cloth::contact

@@ -104,8 +104,12 @@ ContactStage& ContactStage::operator=(ContactStage&&) noexcept = default;
 // The step's two ends in the carrier's frame: y0 (the first pass's start) and y1.
 void ContactStage::Work::toCarrier(const Points& xStart, const State& state, const RigidFrame& from, const RigidFrame& to) {
     const Eigen::Matrix3d r0 = from.rotation.toRotationMatrix().transpose(), r1 = to.rotation.toRotationMatrix().transpose();
-    y0 = r0 * (xStart.colwise() - from.position);
-    y1 = r1 * (state.x.colwise() - to.position);
+    const Index n = xStart.cols();
+    y0.resize(3, n), y1.resize(3, n);
+    for (Index i = 0; i < n; ++i) {
+        y0.col(i) = r0 * Vec3(xStart.col(i) - from.position);
+        y1.col(i) = r1 * Vec3(state.x.col(i) - to.position);
+    }
 }
 
 // The pass from y0 to y1: the self pairs and the solids' primitives that can come within reach
