@@ -66,13 +66,16 @@ void BroadPhase::prepare(const Model& model) {
             }
         }
     }
-    corners_.clear(), cornerStart_.assign(1, 0);
+    cellCorners_.assign(cells, {});
     for (int c = 0; c < cells; ++c) {
         std::vector<Index> corners;
         for (Index t : cellTriangles_[c]) corners.insert(corners.end(), triangles_[t].begin(), triangles_[t].end());
         std::sort(corners.begin(), corners.end());
         corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-        corners_.insert(corners_.end(), corners.begin(), corners.end()), cornerStart_.push_back(corners_.size());
+        if (corners.empty() || corners.size() > 4)
+            throw std::invalid_argument("contact: a grid cell's triangles must have one to four corners");
+        corners.resize(4, corners.back());  // a repeated corner changes no box
+        std::copy(corners.begin(), corners.end(), cellCorners_[c].begin());
     }
     cellStamp_.assign(cells, 0), stamp_ = 0;
     edgeBox_.resize(edges_.size()), triangleBox_.resize(triangles_.size());
@@ -109,7 +112,8 @@ int BroadPhase::build(int c0, int c1, int r0, int r1) {
     return n;
 }
 
-void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, Scalar margin) {
+void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, const std::vector<Scalar>& moves,
+                       Scalar margin) {
     if (model.id() != model_) prepare(model);
     const Index n = model.particleCount();
     vertexBox_.resize(n), halfMove_.resize(n);
@@ -117,16 +121,14 @@ void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, S
         const Vec3 a = y0.col(i), b = y1.col(i);
         Box& box = vertexBox_[i];
         box.lo = a.cwiseMin(b).array() - margin / 2, box.hi = a.cwiseMax(b).array() + margin / 2;
-        halfMove_[i] = 0.5 * (b - a).norm();
+        halfMove_[i] = 0.5 * moves[std::size_t(i)];
     }
     // A cell's box holds its triangles' corners; its edges' and triangles' own boxes are made
     // when a search first reaches the cell (fresh).
-    cellBox_.resize(cornerStart_.size() - 1);
-    for (std::size_t c = 0; c + 1 < cornerStart_.size(); ++c) {
-        const std::size_t begin = cornerStart_[c], end = cornerStart_[c + 1];
-        Box& box = cellBox_[c];
-        box = begin < end ? vertexBox_[corners_[begin]] : Box{};
-        for (std::size_t k = begin + 1; k < end; ++k) box.add(vertexBox_[corners_[k]]);
+    cellBox_.resize(cellCorners_.size());
+    for (std::size_t c = 0; c < cellCorners_.size(); ++c) {
+        const auto& k = cellCorners_[c];
+        cellBox_[c] = joined(joined(vertexBox_[k[0]], vertexBox_[k[1]]), joined(vertexBox_[k[2]], vertexBox_[k[3]]));
     }
     ++stamp_;
     margin_ = margin;

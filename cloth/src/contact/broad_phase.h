@@ -48,8 +48,9 @@ class BroadPhase {
 public:
     // The grid's quadtree, its mesh edges and each primitive's cell; redone when the model changes.
     void prepare(const Model& model);
-    // The swept boxes of the step from y0 to y1 (carrier frame), grown by margin.
-    void refit(const Model& model, const Points& y0, const Points& y1, Scalar margin);
+    // The swept boxes of the step from y0 to y1 (carrier frame), grown by margin; moves[i] is
+    // particle i's straight move's length, |y1_i - y0_i|.
+    void refit(const Model& model, const Points& y0, const Points& y1, const std::vector<Scalar>& moves, Scalar margin);
     // The normal cones of the step's motion (after refit, before selfPairs): each particle on its
     // straight move, or anywhere within margin / 2 of it where `pushed` flags it (the contact
     // stage's pushes).
@@ -112,8 +113,7 @@ private:
     // Per cell: its triangles, the vertices and edges it owns.
     std::vector<std::vector<Index>> cellTriangles_, cellVertices_, cellEdges_;
     std::vector<Box> vertexBox_, edgeBox_, triangleBox_, cellBox_;
-    std::vector<Index> corners_;                   // the cells' triangles' corners, cell by cell
-    std::vector<std::size_t> cornerStart_;         // cell c's: corners_[cornerStart_[c], cornerStart_[c + 1])
+    std::vector<std::array<Index, 4>> cellCorners_;  // per cell: its triangles' corners (the last repeated up to four)
     std::vector<std::uint64_t> cellStamp_;         // per cell: the refit its edges' and triangles' boxes are of
     std::uint64_t stamp_ = 0;                      // refits since prepare
     Scalar margin_ = 0;

@@ -117,9 +117,8 @@ void ContactStage::Work::toCarrier(const Points& xStart, const State& state, con
 void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned,
                                 const std::vector<Collider>& solids, const ContactSettings& settings, ContactReport& report) {
     const Index n = model->particleCount();
-    broad.refit(*model, y0, y1, 2 * settings.thickness);
-    reachOf.resize(n);
-    for (Index i = 0; i < n; ++i) reachOf[i] = (y1.col(i) - y0.col(i)).norm();
+    contact::moveLengths(y0, y1, reachOf);
+    broad.refit(*model, y0, y1, reachOf, 2 * settings.thickness);
     edges = &broad.edges(), thickness = settings.thickness;
     halfSpaces = settings.selfBounds == ContactSettings::SelfBounds::HalfSpaces;
     near.clear();

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "simd.h"
+
 namespace cloth::contact {
 
 SegmentPair closestSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
@@ -76,6 +78,23 @@ Scalar segmentBoxDistance(const Vec3& p0, const Vec3& p1, const Vec3& center, co
     }
     const Scalar best = std::min({f(0), f(1), f1, f2});
     return std::max(Scalar(0), best - (hi - lo) * (p1 - p0).norm());
+}
+
+namespace {
+
+CLOTH_SIMD_CLONES void lengthLoop(const Scalar* __restrict a, const Scalar* __restrict b, Index n, Scalar* __restrict out) {
+CLOTH_IVDEP
+    for (Index i = 0; i < n; ++i) {
+        const Scalar dx = b[3 * i] - a[3 * i], dy = b[3 * i + 1] - a[3 * i + 1], dz = b[3 * i + 2] - a[3 * i + 2];
+        out[i] = std::sqrt(dx * dx + dy * dy + dz * dz);
+    }
+}
+
+}  // namespace
+
+void moveLengths(const Points& y0, const Points& y1, std::vector<Scalar>& out) {
+    out.resize(std::size_t(y0.cols()));
+    lengthLoop(y0.data(), y1.data(), y0.cols(), out.data());
 }
 
 }  // namespace cloth::contact

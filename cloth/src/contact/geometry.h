@@ -3,6 +3,8 @@
 // of a point to a triangle, of a point or a segment to a box. Plain functions of their
 // arguments.
 
+#include <vector>
+
 #include "cloth/types.h"
 
 namespace cloth::contact {
@@ -30,5 +32,9 @@ Scalar segmentBoxDistance(const Vec3& p0, const Vec3& p1, const Vec3& center, co
 
 // The distance of a point to an oriented box (0 inside).
 Scalar pointBoxDistance(const Vec3& p, const Vec3& center, const Mat3& R, const Vec3& e);
+
+// Each particle's straight move's length, |y1_i - y0_i| (the squares summed x, y, z, as Eigen's
+// norm does: the same bits), in a loop the compiler vectorizes.
+void moveLengths(const Points& y0, const Points& y1, std::vector<Scalar>& out);
 
 }  // namespace cloth::contact
