@@ -25,16 +25,35 @@ def main():
           f"{ctx.get('date', '')}; build {ctx.get('library_build_type', '?')}. "
           "Medians over repetitions (CPU time of the calling thread and wall time).")
     print()
+    contact = {name: bs for name, bs in runs.items() if name.startswith("contactApply/")}
     print("| benchmark | wall us/step | CPU us/step | particle-steps/s (M) | iterations/step | max stretch after 1 s |")
     print("|---|---:|---:|---:|---:|---:|")
     for name, bs in runs.items():
+        if name in contact:
+            continue
         med = lambda key: statistics.median(b[key] for b in bs)
         rate = statistics.median(b.get("particle_steps/s", 0) for b in bs) / 1e6
         stretch = statistics.median(b.get("max_stretch", float("nan")) for b in bs)
         iters = [b["iterations/step"] for b in bs if "iterations/step" in b]
         iters = f"{statistics.median(iters):.2f}" if iters else ""
         print(f"| {name} | {med('real_time'):.1f} | {med('cpu_time'):.1f} | {rate:.2f} | {iters} | {stretch:.4f} |")
+    contact_table(contact)
     goals(runs)
+
+
+def contact_table(runs):
+    """The contactApply rows: one application of contact per call, with its work."""
+    if not runs:
+        return
+    print()
+    print("Contact, one application per call (medians of repetitions):")
+    print()
+    print("| benchmark | wall us/call | broad phase us/call | self pairs | sub-intervals |")
+    print("|---|---:|---:|---:|---:|")
+    for name, bs in runs.items():
+        med = lambda key: statistics.median(b.get(key, float("nan")) for b in bs)
+        print(f"| {name} | {med('real_time'):.1f} | {med('broad_phase_us/call'):.1f} | "
+              f"{med('self_pairs/call'):.0f} | {med('subintervals/call'):.0f} |")
 
 
 # The cost goals of the multigrid solve, each against the paper's step of the same run and size.
