@@ -84,6 +84,7 @@ void BroadPhase::prepare(const Model& model) {
         cellVertices_[cellOf(v, v)].push_back(v);
         row_[v] = v / nx_, col_[v] = v % nx_;
     }
+    twoApartPairs();
     nodes_.clear();
     build(0, nx_ - 1, 0, ny_ - 1);
     leafCorners_.clear(), leaves_.clear(), leafStart_.assign(1, 0);
@@ -93,6 +94,50 @@ void BroadPhase::prepare(const Model& model) {
         leaves_.push_back(n), leafStart_.push_back(leafCorners_.size());
     }
     leafAxis_.assign(leaves_.size(), Vec3::UnitZ());
+}
+
+namespace {
+
+// The 16 offsets (dr, dc) of a cell two cells from another (the larger of |dr| and |dc| is 2),
+// numbered row by row: -1 for the others.
+constexpr std::array<std::array<int, 5>, 5> kTwoApartBits = {{
+    {0, 1, 2, 3, 4},
+    {5, -1, -1, -1, 6},
+    {7, -1, -1, -1, 8},
+    {9, -1, -1, -1, 10},
+    {11, 12, 13, 14, 15},
+}};
+
+int twoApartBit(int dr, int dc) {
+    return std::abs(dr) > 2 || std::abs(dc) > 2 ? -1 : kTwoApartBits[std::size_t(dr + 2)][std::size_t(dc + 2)];
+}
+
+}  // namespace
+
+// For each cell and each cell two cells from it: whether their primitives hold a pair far enough
+// apart to be searched (far). Most do not (every corner of one within kExcludedCells of some
+// corner of the other), and their boxes meet whenever the cloth bends: cellsMeet skips them.
+void BroadPhase::twoApartPairs() {
+    const int cells = (nx_ - 1) * (ny_ - 1);
+    twoApart_.assign(cells, 0);
+    auto anyPair = [&](int a, int b) {
+        for (Index v : cellVertices_[a])
+            for (Index t : cellTriangles_[b])
+                if (farTriangle(v, t)) return true;
+        for (Index e : cellEdges_[a])
+            for (Index f : cellEdges_[b])
+                if (farEdges(e, f)) return true;
+        return false;
+    };
+    for (int r = 0; r < ny_ - 1; ++r)
+        for (int c = 0; c < nx_ - 1; ++c)
+            for (int dr = -2; dr <= 2; ++dr)
+                for (int dc = -2; dc <= 2; ++dc) {
+                    const int bit = twoApartBit(dr, dc), rb = r + dr, cb = c + dc;
+                    if (bit < 0 || rb < 0 || cb < 0 || rb >= ny_ - 1 || cb >= nx_ - 1) continue;
+                    const int a = r * (nx_ - 1) + c, b = rb * (nx_ - 1) + cb;
+                    if (anyPair(a, b) || anyPair(b, a)) twoApart_[a] |= std::uint16_t(1u << bit);
+                }
 }
 
 int BroadPhase::build(int c0, int c1, int r0, int r1) {
@@ -296,17 +341,20 @@ void BroadPhase::eachCell(const Node& n, F fn) const {
 }
 
 // Two cells' primitives can form a pair only if the cells' boxes (each holding its triangles, and
-// so the vertices and edges it owns) overlap and the cells are more than one cell apart: within
-// one, every corner of one lies within kExcludedCells of every corner of the other. Tested once
-// for each two cells of two leaves (meet[a][b], a leaf has at most 2 x 2 cells), from the cells'
-// boxes alone, before the leaves' edges and triangles have boxes (fresh): false if no two meet.
+// so the vertices and edges it owns) overlap and the cells are more than one cell apart (within
+// one, every corner of one lies within kExcludedCells of every corner of the other), and, two
+// apart, only if they hold a far pair at all (twoApartPairs). Tested once for each two cells of two
+// leaves (meet[a][b], a leaf has at most 2 x 2 cells), from the cells' boxes alone, before the
+// leaves' edges and triangles have boxes (fresh): false if no two meet.
 bool BroadPhase::cellsMeet(const Node& A, const Node& B, Meet& meet) const {
     static_assert(kExcludedCells >= 2, "cells within one of each other are skipped");
     meet = {};
     bool any = false;
     eachCell(A, [&](const Cell& a) {
         eachCell(B, [&](const Cell& b) {
-            meet[a.k][b.k] = (std::abs(a.r - b.r) > 1 || std::abs(a.c - b.c) > 1) && cellBox_[a.index].overlaps(cellBox_[b.index]);
+            const int apart = std::max(std::abs(a.r - b.r), std::abs(a.c - b.c));
+            const bool pairs = apart > 2 || (apart == 2 && (twoApart_[a.index] >> twoApartBit(b.r - a.r, b.c - a.c)) & 1);
+            meet[a.k][b.k] = pairs && cellBox_[a.index].overlaps(cellBox_[b.index]);
             any = any || meet[a.k][b.k];
         });
     });

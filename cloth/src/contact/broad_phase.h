@@ -99,6 +99,7 @@ private:
     void eachCell(const Node& n, F fn) const;
     using Meet = std::array<std::array<bool, 4>, 4>;  // two leaves' cells that may hold a pair
     bool cellsMeet(const Node& a, const Node& b, Meet& meet) const;
+    void twoApartPairs();
     void leafPairs(const Node& a, const Node& b, const Meet& meet, std::vector<Pair>& out) const;
     bool far(Index u, Index v) const;  // more than kExcludedCells cells apart
     bool farTriangle(Index v, Index t) const;
@@ -114,6 +115,7 @@ private:
     std::vector<std::vector<Index>> cellTriangles_, cellVertices_, cellEdges_;
     std::vector<Box> vertexBox_, edgeBox_, triangleBox_, cellBox_;
     std::vector<std::array<Index, 4>> cellCorners_;  // per cell: its triangles' corners (the last repeated up to four)
+    std::vector<std::uint16_t> twoApart_;  // per cell: bit twoApartBit(dr, dc) if the cell there holds a far pair with it
     std::vector<std::uint64_t> cellStamp_;         // per cell: the refit its edges' and triangles' boxes are of
     std::uint64_t stamp_ = 0;                      // refits since prepare
     Scalar margin_ = 0;
