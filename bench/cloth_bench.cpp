@@ -137,13 +137,8 @@ void airForces(benchmark::State& bm, bool implicit) {
 // Counter: corrections per call.
 void stretchLimit(benchmark::State& bm) {
     cloth::HangingFlag flag = flagOfSize(static_cast<int>(bm.range(0)));
-    cloth::SolverConfig demo;
-    cloth::parseSolverConfig("kangcho:precision=float", demo, nullptr);
-    auto solver = cloth::makeSolver(demo);
-    cloth::Constraints constraints;
-    cloth::parseConstraints("tether=0.02,stretch_limit=0.1,stretch_passes=4", constraints, nullptr);
-    solver->setConstraints(constraints);
-    for (int s = 0; s < 60; ++s) solver->step(flag.model, cloth::Environment{}, flag.state, inputOfStep(flag, Pole::Swung, s));
+    auto solver = bench::demoSolver("tether=0.02,stretch_limit=0.1,stretch_passes=4");
+    bench::run(*solver, flag, Pole::Swung, 0, 60);
     const cloth::Vec3 top = flag.state.x.col(flag.pins.front().particle);
     for (cloth::Index i = 0; i < flag.model.particleCount(); ++i)
         flag.state.x.col(i) = top + 1.12 * (flag.state.x.col(i) - top);

@@ -17,9 +17,7 @@
 
 #include <vector>
 
-#include "cloth/constraints.h"
 #include "cloth/contact.h"
-#include "cloth/solver_config.h"
 #include "swung_pole.h"
 
 namespace {
@@ -39,15 +37,10 @@ enum class Case { Hanging, Swung, Folded };
 void contactApply(benchmark::State& bm, Case what) {
     const bench::Pole motion = what == Case::Hanging ? bench::Pole::Still : bench::Pole::Swung;
     cloth::HangingFlag flag = bench::flagOfSize(static_cast<int>(bm.range(0)));
-    cloth::SolverConfig demo;
-    cloth::parseSolverConfig("kangcho:precision=float", demo, nullptr);
-    auto solver = cloth::makeSolver(demo);
-    cloth::Constraints constraints;
-    cloth::parseConstraints("tether=0.02,stretch_limit=0.1", constraints, nullptr);
-    solver->setConstraints(constraints);
-    for (int s = 0; s < kStart; ++s) solver->step(flag.model, cloth::Environment{}, flag.state, bench::inputOfStep(flag, motion, s));
+    auto solver = bench::demoSolver("tether=0.02,stretch_limit=0.1");
+    bench::run(*solver, flag, motion, 0, kStart);
     const cloth::Points start = flag.state.x;
-    solver->step(flag.model, cloth::Environment{}, flag.state, bench::inputOfStep(flag, motion, kStart));
+    bench::run(*solver, flag, motion, kStart, kStart + 1);
     cloth::Points xStart = start;
     cloth::State end = flag.state;
     if (what == Case::Folded) fold(flag.model, xStart), fold(flag.model, end.x), fold(flag.model, end.v);

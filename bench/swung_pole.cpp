@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "cloth/constraints.h"
+#include "cloth/solver_config.h"
+
 namespace bench {
 
 namespace {
@@ -32,6 +35,20 @@ cloth::StepInput inputOfStep(const cloth::HangingFlag& flag, Pole pole, int s) {
     const cloth::Vec3 d = poleOffset(s), v = poleVelocity(s);
     for (cloth::Pin& p : in.pins) p.x += d, p.v = v;
     return in;
+}
+
+std::unique_ptr<cloth::Solver> demoSolver(const char* constraints) {
+    cloth::SolverConfig demo;
+    cloth::parseSolverConfig("kangcho:precision=float", demo, nullptr);
+    auto solver = cloth::makeSolver(demo);
+    cloth::Constraints c;
+    cloth::parseConstraints(constraints, c, nullptr);
+    solver->setConstraints(c);
+    return solver;
+}
+
+void run(cloth::Solver& solver, cloth::HangingFlag& flag, Pole pole, int from, int to) {
+    for (int s = from; s < to; ++s) solver.step(flag.model, cloth::Environment{}, flag.state, inputOfStep(flag, pole, s));
 }
 
 }  // namespace bench

@@ -4,6 +4,8 @@
 // the flag's plane and across it (the flag hangs in x-y), so that the flag flaps and stretches in
 // every step, as on the demo's vehicle.
 
+#include <memory>
+
 #include "cloth/presets.h"
 #include "cloth/solver.h"
 
@@ -22,5 +24,11 @@ cloth::Vec3 poleVelocity(int s);
 
 // The input of step s: the flag's own pins, or pins moved with the swung pole.
 cloth::StepInput inputOfStep(const cloth::HangingFlag& flag, Pole pole, int s);
+
+// The demo's solver (the paper's step in float) with `constraints` (cloth/constraints.h's text).
+std::unique_ptr<cloth::Solver> demoSolver(const char* constraints);
+
+// Steps [from, to) of `solver` on `flag`, its pole moving as `pole`.
+void run(cloth::Solver& solver, cloth::HangingFlag& flag, Pole pole, int from, int to);
 
 }  // namespace bench
