@@ -157,16 +157,14 @@ int BroadPhase::build(int c0, int c1, int r0, int r1) {
     return n;
 }
 
-void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, const std::vector<Scalar>& moves,
-                       Scalar margin) {
+void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, Scalar margin) {
     if (model.id() != model_) prepare(model);
     const Index n = model.particleCount();
-    vertexBox_.resize(n), halfMove_.resize(n);
+    vertexBox_.resize(n);
     for (Index i = 0; i < n; ++i) {
         const Vec3 a = y0.col(i), b = y1.col(i);
         Box& box = vertexBox_[i];
         box.lo = a.cwiseMin(b).array() - margin / 2, box.hi = a.cwiseMax(b).array() + margin / 2;
-        halfMove_[i] = 0.5 * moves[std::size_t(i)];
     }
     // A cell's box holds its triangles' corners; its edges' and triangles' own boxes are made
     // when a search first reaches the cell (fresh).
@@ -181,10 +179,11 @@ void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, c
     searched_.clear(), keptPairs_.clear();
 }
 
-void BroadPhase::widen(const Points& y0, const Points& y1, const std::vector<std::uint8_t>& pushed) {
-    const Index n = Index(halfMove_.size());
+void BroadPhase::widen(const Points& y0, const Points& y1, const std::vector<Scalar>& moves,
+                       const std::vector<std::uint8_t>& pushed) {
+    const std::size_t n = moves.size();
     reach_.resize(n);
-    for (Index i = 0; i < n; ++i) reach_[i] = halfMove_[i] + (pushed.empty() || !pushed[i] ? 0 : margin_ / 2);
+    for (std::size_t i = 0; i < n; ++i) reach_[i] = 0.5 * moves[i] + (pushed.empty() || !pushed[i] ? 0 : margin_ / 2);
     motionCones(y0, y1, reach_, leafCorners_, coneScratch_, cones_);
     leafCones();
     refitCones(0);

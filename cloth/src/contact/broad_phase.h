@@ -48,13 +48,12 @@ class BroadPhase {
 public:
     // The grid's quadtree, its mesh edges and each primitive's cell; redone when the model changes.
     void prepare(const Model& model);
-    // The swept boxes of the step from y0 to y1 (carrier frame), grown by margin; moves[i] is
-    // particle i's straight move's length, |y1_i - y0_i|.
-    void refit(const Model& model, const Points& y0, const Points& y1, const std::vector<Scalar>& moves, Scalar margin);
+    // The swept boxes of the step from y0 to y1 (carrier frame), grown by margin.
+    void refit(const Model& model, const Points& y0, const Points& y1, Scalar margin);
     // The normal cones of the step's motion (after refit, before selfPairs): each particle on its
-    // straight move, or anywhere within margin / 2 of it where `pushed` flags it (the contact
-    // stage's pushes).
-    void widen(const Points& y0, const Points& y1, const std::vector<std::uint8_t>& pushed);
+    // straight move (moves[i] its length, |y1_i - y0_i|), or anywhere within margin / 2 of it where
+    // `pushed` flags it (the contact stage's pushes).
+    void widen(const Points& y0, const Points& y1, const std::vector<Scalar>& moves, const std::vector<std::uint8_t>& pushed);
     // The self pairs that may touch during the step and that `keep` keeps, in the order of the
     // tree's search. Returns the candidates found: past `most` the search stops. Within one refit,
     // each two leaves are searched and their candidates kept once: a later call (wider cones after
@@ -119,7 +118,6 @@ private:
     std::vector<std::uint64_t> cellStamp_;         // per cell: the refit its edges' and triangles' boxes are of
     std::uint64_t stamp_ = 0;                      // refits since prepare
     Scalar margin_ = 0;
-    std::vector<Scalar> halfMove_;   // half each particle's straight move over the step (refit)
     std::vector<Scalar> reach_;      // each particle's distance from its move's midpoint, at most
     Corners leafCorners_;            // the triangles leaf by leaf, each leaf's in eachTriangle's order
     Cones cones_;                    // each leafCorners_ triangle's normal cone over the step

@@ -118,7 +118,7 @@ void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<st
                                 const std::vector<Collider>& solids, const ContactSettings& settings, ContactReport& report) {
     const Index n = model->particleCount();
     contact::moveLengths(y0, y1, reachOf);
-    broad.refit(*model, y0, y1, reachOf, 2 * settings.thickness);
+    broad.refit(*model, y0, y1, 2 * settings.thickness);
     edges = &broad.edges(), thickness = settings.thickness;
     halfSpaces = settings.selfBounds == ContactSettings::SelfBounds::HalfSpaces;
     near.clear();
@@ -146,7 +146,7 @@ bool ContactStage::Work::selfPairs(contact::BroadPhase& broad, const std::vector
     const std::size_t most = kMaxPairsPerParticle * std::size_t(model->particleCount());
     const contact::Keep keep = [this](Pair& p) { return mayMeet(p); };
     for (;;) {
-        broad.widen(y0, y1, pushed);
+        broad.widen(y0, y1, reachOf, pushed);
         if (const std::size_t found = broad.selfPairs(pairs, most, keep); found > most) {
             pairs.clear(), candidates = found;
             return false;

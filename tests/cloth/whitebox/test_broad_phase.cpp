@@ -99,8 +99,8 @@ std::set<PairKey> everyPair(const Crumpled& c, const std::vector<std::array<Inde
 std::set<PairKey> broadPhasePairs(BroadPhase& broad, const Crumpled& c, Scalar margin) {
     std::vector<Scalar> moves(std::size_t(c.model.particleCount()));
     for (Index i = 0; i < c.model.particleCount(); ++i) moves[std::size_t(i)] = (c.y1.col(i) - c.y0.col(i)).norm();
-    broad.refit(c.model, c.y0, c.y1, moves, margin);
-    broad.widen(c.y0, c.y1, {});
+    broad.refit(c.model, c.y0, c.y1, margin);
+    broad.widen(c.y0, c.y1, moves, {});
     std::vector<Pair> out;
     const contact::Keep keepAll = [](Pair&) { return true; };
     broad.selfPairs(out, std::size_t(1) << 40, keepAll);
