@@ -173,6 +173,137 @@ TEST(PhysicsStretchLimit, ThreadsSplitTheBlocksWithTheSameBits) {
                                                            << (serial.x - split.x).cwiseAbs().maxCoeff();
 }
 
+namespace {
+
+// The stretch limit written out: every spring in Model::passSprings()'s order in every pass, until
+// a pass corrects none, with the pass's arithmetic. What StretchLimit::apply gives bit for bit,
+// however it finds the springs worth checking.
+int everySpringEveryPass(const Model& model, const std::vector<std::uint8_t>& pinned, Scalar maxStretch, int passes,
+                         Scalar h, State& s) {
+    const Scalar floor = std::nextafter(Scalar(1e-24), Scalar(0));
+    int total = 0;
+    for (int pass = 0; pass < passes; ++pass) {
+        int corrections = 0;
+        for (const PassSpring& sp : model.passSprings()) {
+            const Scalar limit = (1 + maxStretch) * sp.rest;
+            const Scalar dx = s.x(0, sp.j) - s.x(0, sp.i), dy = s.x(1, sp.j) - s.x(1, sp.i), dz = s.x(2, sp.j) - s.x(2, sp.i);
+            const Scalar L2 = dx * dx + dy * dy + dz * dz;
+            if (L2 <= std::max(limit * limit, floor)) continue;
+            const Scalar L = std::sqrt(L2);
+            const Scalar wi = pinned[sp.i] ? 0 : 1 / model.masses()[sp.i], wj = pinned[sp.j] ? 0 : 1 / model.masses()[sp.j];
+            if (L <= limit || wi + wj == 0) continue;
+            const Scalar f = (L - limit) / (L * (wi + wj));
+            const Vec3 c(f * dx, f * dy, f * dz);
+            s.x.col(sp.i) += wi * c, s.x.col(sp.j) -= wj * c;
+            s.v.col(sp.i) += (wi / h) * c, s.v.col(sp.j) -= (wj / h) * c;
+            ++corrections;
+        }
+        total += corrections;
+        if (corrections == 0) break;
+    }
+    return total;
+}
+
+// An n x n flag at rest with `kicked` random free particles moved by up to 0.6 of the spacing.
+Cloth kickedFlag(int n, int kicked, std::mt19937& rng) {
+    HangingFlagDesc d;
+    d.nx = d.ny = n;
+    HangingFlag flag = makeHangingFlag(d);
+    Cloth c{flag.model, flag.state};
+    const Scalar spacing = d.width / (d.nx - 1);
+    std::uniform_int_distribution<Index> any(0, c.model.particleCount() - 1);
+    for (int k = 0; k < kicked; ++k) {
+        const Index i = any(rng);
+        if (i % n != 0) c.state.x.col(i) += randomVec(rng, -0.6 * spacing, 0.6 * spacing);
+    }
+    return c;
+}
+
+// The springs over the limit in `s`, as bits in pass order, with every `extra`-th spring besides.
+SpringBits overTheLimit(const Model& model, const State& s, Scalar maxStretch, int extra) {
+    const auto& springs = model.passSprings();
+    SpringBits bits((springs.size() + 63) / 64, 0);
+    for (std::size_t k = 0; k < springs.size(); ++k) {
+        const Scalar L = (s.x.col(springs[k].j) - s.x.col(springs[k].i)).norm();
+        if (L > (1 + maxStretch) * springs[k].rest * (1 - 1e-9) || k % std::size_t(extra) == 0)
+            bits[k / 64] |= std::uint64_t(1) << (k % 64);
+    }
+    return bits;
+}
+
+}  // namespace
+
+TEST(PhysicsStretchLimit, PassesGiveTheBitsOfCheckingEverySpringInEveryPass) {
+    // A few particles kicked (few corrections: the passes mark the springs to check) and many
+    // (every spring checked), in three calls on the same limit (moves of a call before must not
+    // read as this one's); 129 x 129 has four blocks, on one thread and on two.
+    ThreadPool one(1), two(2);
+    for (const int n : {9, 33, 129})
+        for (const int kicked : {3, 40, n * n / 2})
+            for (ThreadPool* pool : {&one, &two}) {
+                std::mt19937 rng{unsigned(n + kicked)};
+                Cloth c = kickedFlag(n, kicked, rng);
+                std::vector<std::uint8_t> pinned(c.model.particleCount(), 0);
+                for (Index i = 0; i < c.model.particleCount(); i += n) pinned[i] = 1;
+                StretchLimit limit;
+                State written = c.state;
+                for (int call = 0; call < 3; ++call) {
+                    const int expected = everySpringEveryPass(c.model, pinned, 0.1, 4, 1.0 / 240, written);
+                    EXPECT_EQ(limit.apply(c.model, pinned, 0.1, 4, 1.0 / 240, c.state, pool), expected)
+                        << n << " x " << n << ", " << kicked << " kicked, call " << call;
+                    ASSERT_TRUE(c.state.x == written.x && c.state.v == written.v)
+                        << n << " x " << n << ", " << kicked << " kicked, call " << call << ": max |dx| "
+                        << (c.state.x - written.x).cwiseAbs().maxCoeff();
+                    for (Index i = 1 + call; i < c.model.particleCount(); i += 7 * n + 3)  // more kicks
+                        if (i % n != 0) c.state.x.col(i) += Vec3(0.02, -0.01, 0.03), written.x.col(i) = c.state.x.col(i);
+                }
+            }
+}
+
+TEST(PhysicsStretchLimit, ACallersListOfTheSpringsOverTheLimitGivesTheSameBits) {
+    // The springs over the limit (and every 50th besides), as a cheaper test would list them;
+    // and through the constraint set, listed before its tethers move particles, whose springs it
+    // must add: in the third case column 1 moved out of the flag's plane by 0.45 spacings leaves
+    // every spring within its limit (none listed) but column 1 beyond its tether (2%), which pulls
+    // it back towards the pole and its springs to column 2 some 15% long, over the limit of 10%.
+    struct Case {
+        int kicked;
+        Constraints constraints;
+    };
+    for (const Case& test : {Case{5, {0.02, 0.1, 4}}, Case{60, {0.02, 0.1, 4}}, Case{0, {0.02, 0.1, 4}}}) {
+        std::mt19937 rng{unsigned(test.kicked)};
+        Cloth c = kickedFlag(33, test.kicked, rng);
+        if (test.kicked == 0) {
+            const Scalar spacing = (c.state.x.col(1) - c.state.x.col(0)).norm();
+            for (Index p = 1; p < c.model.particleCount(); p += 33) c.state.x(2, p) += 0.45 * spacing;
+        }
+        std::vector<std::uint8_t> pinned(c.model.particleCount(), 0);
+        std::vector<Pin> pins;
+        for (Index i = 0; i < c.model.particleCount(); i += 33) pinned[i] = 1, pins.push_back({i, c.state.x.col(i)});
+        const Constraints& k = test.constraints;
+        const SpringBits listed = overTheLimit(c.model, c.state, k.stretchLimit, 50);
+
+        State written = c.state, state = c.state;
+        const int expected = everySpringEveryPass(c.model, pinned, k.stretchLimit, 4, 1.0 / 240, written);
+        EXPECT_EQ(StretchLimit().apply(c.model, pinned, k.stretchLimit, 4, 1.0 / 240, state, nullptr, &listed), expected);
+        EXPECT_TRUE(state.x == written.x && state.v == written.v) << test.kicked << " kicked";
+
+        ConstraintSet set;
+        set.set(k);
+        written = c.state, state = c.state;
+        Tethers tethers;
+        const int moved = tethers.apply(c.model, pins, k.tether, 1.0 / 240, written);
+        ASSERT_GT(moved, 0);
+        const int corrected = everySpringEveryPass(c.model, pinned, k.stretchLimit, 4, 1.0 / 240, written);
+        ConstraintHints hints;  // every tethered particle, the springs over the limit
+        hints.springs = listed;
+        for (Index k = 0; k < Index(tethers.tethered().size()); ++k) hints.tethers.push_back(k);
+        EXPECT_EQ(set.apply(c.model, pins, 1.0 / 240, state, nullptr, &hints), moved + corrected);
+        EXPECT_TRUE(state.x == written.x && state.v == written.v) << test.kicked << " kicked, with tethers: max |dx| "
+                                                                  << (state.x - written.x).cwiseAbs().maxCoeff();
+    }
+}
+
 // Long-range attachments, checked against each particle's nearest pin at rest, found here by
 // brute force over every pin.
 struct TetherCheck {

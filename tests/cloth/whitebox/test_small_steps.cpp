@@ -5,12 +5,14 @@
 // for bit; its stability bound against the true highest frequency of a flag (a dense eigensolve);
 // the demo flag's constraints after every substep against the same integrator with the
 // constraints after each of its substeps, through a jump of the pole; its substeps paced by the
-// pins against counts worked by hand.
+// pins against counts worked by hand; its stretch limit's cheap test against the squared lengths
+// and tethers in double.
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <random>
 
 #include "cloth/air.h"
 #include "cloth/collision.h"
@@ -20,6 +22,7 @@
 #include "cloth/solver.h"
 #include "physics_support.h"
 #include "small_steps/stable_step.h"
+#include "small_steps/constraint_check.h"
 
 using namespace cloth;
 using namespace cloth::test;
@@ -245,4 +248,108 @@ TEST(SmallSteps, ItsStepsTakeThePacedCountThroughAJump) {
         }
         EXPECT_EQ(r.iterations, std::max(stable, int(std::ceil(move / 0.01 - 1e-9)))) << "step " << s;
     }
+}
+
+TEST(SmallSteps, ItsConstraintCheckListsEverySpringOverItsLimitInDouble) {
+    // Each row of a 33 x 33 flag laid along x at 1.1 (1 - 1e-5) of the rest spacing, with y steps
+    // that bring each of its springs' squared length in double (from the float positions) to its
+    // limit's times 1 + d, d random in +-3e-7: some float roundings (1e-7) apart, so that half the
+    // row's springs are over by less than float resolves. Every spring over its limit in double
+    // must be listed; none under 0.9998 of it may be (the other families fall where they fall).
+    HangingFlagDesc d;
+    d.nx = d.ny = 33;
+    const HangingFlag flag = makeHangingFlag(d);
+    StencilCloth cloth;
+    ASSERT_EQ(cloth.build(flag.model), "");
+    ConstraintSet set;
+    set.set(Constraints{0, 0.1, 4});
+    const StretchLimit& limit = set.stretchLimit(flag.model);
+    ConstraintCheck check;
+    const auto& springs = flag.model.passSprings();
+    std::vector<Index> along(std::size_t(cloth.n), -1);  // the row spring from each particle to the next
+    for (Index k = 0; k < Index(springs.size()); ++k)
+        if (springs[std::size_t(k)].j == springs[std::size_t(k)].i + 1) along[std::size_t(springs[std::size_t(k)].i)] = k;
+    Vec3Field x;
+    x.assign(cloth.n, cloth.pad);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> off(-3e-7, 3e-7);
+    const double spacing = d.width / (d.nx - 1), below = 1.1 * spacing * (1 - 1e-5);
+    for (int r = 0; r < d.ny; ++r)
+        for (int c = 0; c < d.nx; ++c) {
+            const int p = r * d.nx + c;
+            x.x.at()[p] = float(c * below), x.z.at()[p] = float(r * 1.1 * d.height / (d.ny - 1));
+            if (c == 0) continue;
+            const double dx = double(x.x.at()[p]) - x.x.at()[p - 1], target = limit.within(along[std::size_t(p - 1)]) * (1 + off(rng));
+            x.y.at()[p] = float(x.y.at()[p - 1] + (c % 2 ? 1 : -1) * std::sqrt(target - dx * dx));
+        }
+    const SpringBits& listed = check.hints(cloth, flag.model, flag.pins, set, x).springs;
+    int over = 0, overAlong = 0, listedCount = 0;
+    for (Index k = 0; k < Index(springs.size()); ++k) {
+        const int i = springs[std::size_t(k)].i, j = springs[std::size_t(k)].j;
+        const double dx = double(x.x.at()[j]) - x.x.at()[i], dy = double(x.y.at()[j]) - x.y.at()[i],
+                     dz = double(x.z.at()[j]) - x.z.at()[i];
+        const double L2 = dx * dx + dy * dy + dz * dz;
+        const bool isListed = (listed[std::size_t(k) / 64] >> (k % 64)) & 1;
+        listedCount += isListed;
+        if (L2 > limit.within(k)) {
+            ++over, overAlong += j == i + 1;
+            EXPECT_TRUE(isListed) << "spring " << k << " over its limit by " << L2 / limit.within(k) - 1;
+        }
+        if (L2 < 0.9998 * limit.within(k)) {
+            EXPECT_FALSE(isListed) << "spring " << k;
+        }
+    }
+    EXPECT_GT(overAlong, 33 * 32 / 4) << "the test should put many row springs over by a hair";
+    EXPECT_GE(listedCount, over);
+}
+
+TEST(SmallSteps, ItsConstraintCheckListsEveryParticleBeyondItsTetherInDouble) {
+    // Each particle of a 33 x 33 flag set, in its row's plane, at 1.02 (1 - 1e-5) of its rest
+    // distance from its anchor along the row, then moved across the row (y) so that its squared
+    // distance in double (from the float positions) is its bound's times 1 + d, d random in
+    // +-3e-7. Every particle beyond its bound in double must be listed; none under 0.9998 of it.
+    HangingFlagDesc d;
+    d.nx = d.ny = 33;
+    const HangingFlag flag = makeHangingFlag(d);
+    StencilCloth cloth;
+    ASSERT_EQ(cloth.build(flag.model), "");
+    ConstraintSet set;
+    set.set(Constraints{0.02, 0, 4});
+    const Tethers& tethers = set.tethers(flag.model, flag.pins);
+    ASSERT_EQ(tethers.tethered().size(), std::size_t(33 * 32));
+    Vec3Field x;
+    x.assign(cloth.n, cloth.pad);
+    for (int r = 0; r < d.ny; ++r) x.z.at()[r * d.nx] = float(r * d.height / (d.ny - 1));  // the pins
+    std::mt19937 rng(12);
+    std::uniform_real_distribution<double> off(-3e-7, 3e-7);
+    std::vector<double> bound(std::size_t(cloth.n), 0);
+    for (std::size_t k = 0; k < tethers.tethered().size(); ++k) {
+        const int p = tethers.tethered()[k], a = tethers.anchors()[k];
+        ASSERT_EQ(a, p / d.nx * d.nx) << "the anchor of " << p << " is its row's pin";
+        const double limit = 1.02 * tethers.restDistances()[k];
+        bound[std::size_t(p)] = limit * limit;
+        x.x.at()[p] = float(limit * (1 - 1e-5)), x.z.at()[p] = x.z.at()[a];
+        const double dx = double(x.x.at()[p]) - x.x.at()[a];
+        x.y.at()[p] = float(std::sqrt(bound[std::size_t(p)] * (1 + off(rng)) - dx * dx));
+    }
+    ConstraintCheck check;
+    const std::vector<Index>& listed = check.hints(cloth, flag.model, flag.pins, set, x).tethers;
+    std::vector<std::uint8_t> isListed(std::size_t(cloth.n), 0);
+    for (const Index k : listed) isListed[std::size_t(tethers.tethered()[std::size_t(k)])] = 1;
+    EXPECT_TRUE(std::is_sorted(listed.begin(), listed.end()));
+    int beyond = 0;
+    for (std::size_t k = 0; k < tethers.tethered().size(); ++k) {
+        const int p = tethers.tethered()[k], a = tethers.anchors()[k];
+        const double dx = double(x.x.at()[p]) - x.x.at()[a], dy = double(x.y.at()[p]) - x.y.at()[a],
+                     dz = double(x.z.at()[p]) - x.z.at()[a];
+        const double L2 = dx * dx + dy * dy + dz * dz;
+        if (L2 > bound[std::size_t(p)]) {
+            ++beyond;
+            EXPECT_TRUE(isListed[std::size_t(p)]) << "particle " << p << " beyond its bound by " << L2 / bound[std::size_t(p)] - 1;
+        }
+        if (L2 < 0.9998 * bound[std::size_t(p)]) {
+            EXPECT_FALSE(isListed[std::size_t(p)]) << "particle " << p;
+        }
+    }
+    EXPECT_GT(beyond, 33 * 32 / 4) << "the test should put many particles beyond by a hair";
 }
