@@ -24,6 +24,7 @@
 #include "cloth/solvers/small_steps_settings.h"
 #include "cloth/solver_kind.h"
 #include "small_steps/collisions.h"
+#include "small_steps/constraint_check.h"
 #include "small_steps/kernels.h"
 #include "small_steps/lag_guard.h"
 #include "small_steps/spin_barrier.h"
@@ -133,6 +134,7 @@ private:
     const Model* model_ = nullptr;         // the model and the pins of the step under way
     const std::vector<Pin>* pins_ = nullptr;
     State constrained_;                    // the substep's state in double for the constraints
+    ConstraintCheck check_;                // what the constraints need check, in float
     SubstepContact* contact_ = nullptr;    // the step's contact, after every contact_->stride() substeps (or null)
     int contactFrom_ = 0;                  // the substep the last contact ended
     State contactEnd_;                     // the substep's end in the world, in double, for contact
@@ -351,22 +353,25 @@ void SmallStepsSolver::contactAfter(int sub) {
     worldPositions(contactStart_);
 }
 
-// The flag's constraints after a substep, on one thread (the same bits for any thread count): the
-// positions relative to the origin and the velocities in double (exactly), corrected, and back in
-// float when a constraint moved a particle. The constraints read differences of positions only, so
+// The flag's constraints after a substep, on one thread (the same bits for any thread count): what
+// may be over its bound found in float (ConstraintCheck), then, if anything, the positions relative
+// to the origin and the velocities in double (exactly), corrected, and back in float where a
+// constraint moved a particle. The constraints read differences of positions only, so
 // the relative positions serve.
 void SmallStepsSolver::constrain() {
+    const ConstraintHints& hints = check_.hints(cloth_, *model_, *pins_, constraints_, s_.x);
+    if (hints.empty()) return;  // nothing near its bound
     float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at(), *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
     constrained_.x.resize(3, cloth_.n), constrained_.v.resize(3, cloth_.n);
     for (Index i = 0; i < cloth_.n; ++i) {
         constrained_.x.col(i) = Vec3(x[i], y[i], z[i]);
         constrained_.v.col(i) = Vec3(vx[i], vy[i], vz[i]);
     }
-    if (constraints_.apply(*model_, *pins_, plan_.h, constrained_, nullptr) == 0) return;
-    for (Index i = 0; i < cloth_.n; ++i) {
+    if (constraints_.apply(*model_, *pins_, plan_.h, constrained_, nullptr, &hints) == 0) return;
+    constraints_.forEachMoved([&](Index i) {  // the others are as they were
         x[i] = float(constrained_.x(0, i)), y[i] = float(constrained_.x(1, i)), z[i] = float(constrained_.x(2, i));
         vx[i] = float(constrained_.v(0, i)), vy[i] = float(constrained_.v(1, i)), vz[i] = float(constrained_.v(2, i));
-    }
+    });
 }
 
 // Back to the world, in double; dv over the step.
