@@ -25,11 +25,11 @@ CLOTH_SIMD_CLONES void springsOver(const float* x, const float* y, const float* 
 }
 
 // over[p] = 1 where particle p is farther from anchor[p] than listedOver[p] allows (or not a
-// number), for p in [0, n).
+// number), for p in [begin, end).
 CLOTH_SIMD_CLONES void particlesOver(const float* x, const float* y, const float* z, const int* anchor,
-                                     const float* listedOver, int n, std::uint8_t* over) {
+                                     const float* listedOver, int begin, int end, std::uint8_t* over) {
     CLOTH_IVDEP
-    for (int p = 0; p < n; ++p) {
+    for (int p = begin; p < end; ++p) {
         const int a = anchor[p];
         const float dx = x[p] - x[a], dy = y[p] - y[a], dz = z[p] - z[a];
         over[p] = !(dx * dx + dy * dy + dz * dz <= listedOver[p]);
@@ -57,18 +57,50 @@ float listedFrom(Scalar within) { return float(within * (1 - ConstraintCheck::kM
 
 const ConstraintHints& ConstraintCheck::hints(const StencilCloth& cloth, const Model& model, const std::vector<Pin>& pins,
                                               ConstraintSet& set, const Vec3Field& x) {
+    prepare(cloth, model, pins, set);
+    test(cloth, x, 0, cloth.n);
+    return collect(cloth);
+}
+
+void ConstraintCheck::prepare(const StencilCloth& cloth, const Model& model, const std::vector<Pin>& pins,
+                              ConstraintSet& set) {
     const Constraints& c = set.settings();
-    if (c.stretchLimit > 0 && (springsFor_ != cloth.modelId || stretchFor_ != c.stretchLimit))
+    springs_ = c.stretchLimit > 0, tethers_ = c.tether > 0;
+    if (springs_ && (springsFor_ != cloth.modelId || stretchFor_ != c.stretchLimit))
         buildSprings(cloth, model, set.stretchLimit(model)), springsFor_ = cloth.modelId, stretchFor_ = c.stretchLimit;
-    if (c.tether > 0) {
+    if (tethers_) {
         const Tethers& tethers = set.tethers(model, pins);
         if (tethersFor_ != cloth.modelId || tethersVersion_ != tethers.version() || tetherFor_ != c.tether)
             buildTethers(cloth, tethers, c.tether), tethersFor_ = cloth.modelId, tethersVersion_ = tethers.version(),
                                                     tetherFor_ = c.tether;
     }
-    over_.resize(slots(cloth));
-    if (c.stretchLimit > 0) listSprings(cloth, x);
-    if (c.tether > 0) listTethered(cloth, x);
+    over_.resize(cloth.offsets.size() + 1);
+    for (auto& o : over_) o.resize(slots(cloth));
+}
+
+void ConstraintCheck::test(const StencilCloth& cloth, const Vec3Field& x, int begin, int end) {
+    const float *px = x.x.at() + begin, *py = x.y.at() + begin, *pz = x.z.at() + begin;
+    const std::size_t families = cloth.offsets.size();
+    for (std::size_t f = 0; springs_ && f < families; ++f)
+        springsOver(px, py, pz, cloth.offsets[f], springOver_[f].at() + begin, end - begin, over_[f].data() + begin);
+    if (tethers_) particlesOver(x.x.at(), x.y.at(), x.z.at(), anchor_.data(), tetherOver_.at(), begin, end, over_[families].data());
+}
+
+const ConstraintHints& ConstraintCheck::collect(const StencilCloth& cloth) {
+    const std::size_t families = cloth.offsets.size();
+    if (springs_) {
+        std::fill(hints_.springs.begin(), hints_.springs.end(), 0);
+        for (std::size_t f = 0; f < families; ++f)
+            forEachOver(over_[f].data(), over_[f].size(), [&](std::size_t p) {
+                const Index k = passIndex_[f][p];
+                if (k >= 0) hints_.springs[std::size_t(k) / 64] |= std::uint64_t(1) << (k % 64);
+            });
+    }
+    hints_.tethers.clear();
+    if (tethers_)
+        forEachOver(over_[families].data(), over_[families].size(), [&](std::size_t p) {
+            if (tetherIndex_[p] >= 0) hints_.tethers.push_back(tetherIndex_[p]);
+        });
     return hints_;
 }
 
@@ -102,25 +134,6 @@ void ConstraintCheck::buildTethers(const StencilCloth& cloth, const Tethers& tet
         const Scalar limit = (1 + maxStretch) * tethers.restDistances()[k];
         anchor_[p] = int(tethers.anchors()[k]), tetherOver_.at()[p] = listedFrom(limit * limit), tetherIndex_[p] = Index(k);
     }
-}
-
-void ConstraintCheck::listSprings(const StencilCloth& cloth, const Vec3Field& x) {
-    std::fill(hints_.springs.begin(), hints_.springs.end(), 0);
-    for (std::size_t f = 0; f < cloth.offsets.size(); ++f) {
-        springsOver(x.x.at(), x.y.at(), x.z.at(), cloth.offsets[f], springOver_[f].at(), cloth.n, over_.data());
-        forEachOver(over_.data(), over_.size(), [&](std::size_t p) {
-            const Index k = passIndex_[f][p];
-            if (k >= 0) hints_.springs[std::size_t(k) / 64] |= std::uint64_t(1) << (k % 64);
-        });
-    }
-}
-
-void ConstraintCheck::listTethered(const StencilCloth& cloth, const Vec3Field& x) {
-    hints_.tethers.clear();
-    particlesOver(x.x.at(), x.y.at(), x.z.at(), anchor_.data(), tetherOver_.at(), cloth.n, over_.data());
-    forEachOver(over_.data(), over_.size(), [&](std::size_t p) {
-        if (tetherIndex_[p] >= 0) hints_.tethers.push_back(tetherIndex_[p]);
-    });
 }
 
 }  // namespace cloth

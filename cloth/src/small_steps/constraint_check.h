@@ -19,13 +19,19 @@ public:
     static constexpr double kMargin = 1e-4;
 
     // What `set`'s constraints for `model` and `pins` need check in positions `x` (on the stencil,
-    // relative to any origin).
+    // relative to any origin): prepare, test every slot, then collect.
     const ConstraintHints& hints(const StencilCloth& cloth, const Model& model, const std::vector<Pin>& pins,
                                  ConstraintSet& set, const Vec3Field& x);
 
+    // The tables for `set`'s constraints for `model` and `pins` (kept while they stay the same).
+    void prepare(const StencilCloth& cloth, const Model& model, const std::vector<Pin>& pins, ConstraintSet& set);
+    // The tests of the springs at slots [begin, end) and of those particles (threads may test
+    // disjoint ranges at once; x must not change meanwhile).
+    void test(const StencilCloth& cloth, const Vec3Field& x, int begin, int end);
+    // The hints from every slot's test.
+    const ConstraintHints& collect(const StencilCloth& cloth);
+
 private:
-    void listSprings(const StencilCloth& cloth, const Vec3Field& x);
-    void listTethered(const StencilCloth& cloth, const Vec3Field& x);
     void buildSprings(const StencilCloth& cloth, const Model& model, const StretchLimit& limit);
     void buildTethers(const StencilCloth& cloth, const Tethers& tethers, Scalar maxStretch);
 
@@ -44,7 +50,9 @@ private:
     std::vector<int> anchor_;
     PaddedField tetherOver_;
     std::vector<Index> tetherIndex_;
-    std::vector<std::uint8_t> over_;  // per slot (a family's, or the particles'): listed (scratch)
+    bool springs_ = false, tethers_ = false;  // which the constraints have
+    // Per family, then the particles: per slot, whether the test listed it.
+    std::vector<std::vector<std::uint8_t>> over_;
 };
 
 }  // namespace cloth

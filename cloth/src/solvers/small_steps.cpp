@@ -3,11 +3,11 @@
 // the step: the same model as the study's fine-step reference (its explicit steps, air and
 // collisions per substep), in float SIMD on the grid's stencil (small_steps/stencil_cloth.h),
 // positions relative to the first pin so float keeps its precision anywhere in the world, on one
-// or more threads that meet twice per substep (the same bits for any count; beside a busy core
-// they part, small_steps/lag_guard.h; a thread that has not begun when the step starts is not
-// waited for, small_steps/start_gate.h). substeps=0 picks
-// each step's count from the stability bound (small_steps/stable_step.h) times `fraction`, and
-// with max_move > 0 enough that no pin, and no particle at its speed relative to the pole's, moves
+// or more threads that meet twice per substep, four times with constraints (the same bits for any
+// count; beside a busy core they part, small_steps/lag_guard.h; a thread that has not begun when
+// the step starts is not waited for, small_steps/start_gate.h). substeps=0 picks each step's
+// count from the stability bound (small_steps/stable_step.h) times `fraction`, and with
+// max_move > 0 enough that no pin, and no particle at its speed relative to the pole's, moves
 // more than max_move metres in a substep: as the reference paces its substeps through a teleport,
 // and after it while the flag still flies. The flag's constraints (tethers, the stretch limit) run
 // after every substep, as they do after each of the reference's, and so does the caller's contact
@@ -170,6 +170,7 @@ void SmallStepsSolver::load(const Model& model, const Environment& env, const St
         c.extX = external_.x.at(), c.extY = external_.y.at(), c.extZ = external_.z.at();
     }
     colliders_.prepare(input.colliders, input.thickness, input.collisionSkip, origin_);
+    if (constraints_.any()) check_.prepare(cloth_, model, input.pins, constraints_);
     contact_ = input.contact;
     moveStride_ = contact_ ? contact_->strideMove() : 0;
     fastest_.assign(std::size_t(pool_->threads()), 0.0f);
@@ -274,6 +275,8 @@ void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
         integrateKernel(cloth_, plan_.integrate, s_, begin, end);
         if (constraints_.any()) {  // between the integration and the collisions, as after a solver's step
             if (together) meet(index);
+            check_.test(cloth_, s_.x, begin, end);  // each thread its slots' springs and particles
+            if (together) meet(index);
             if (index == 0) constrain();
             if (together) meet(index);
         }
@@ -354,12 +357,12 @@ void SmallStepsSolver::contactAfter(int sub) {
 }
 
 // The flag's constraints after a substep, on one thread (the same bits for any thread count): what
-// may be over its bound found in float (ConstraintCheck), then, if anything, the positions relative
+// the threads' float tests found may be over its bound (ConstraintCheck), then, if anything, the positions relative
 // to the origin and the velocities in double (exactly), corrected, and back in float where a
 // constraint moved a particle. The constraints read differences of positions only, so
 // the relative positions serve.
 void SmallStepsSolver::constrain() {
-    const ConstraintHints& hints = check_.hints(cloth_, *model_, *pins_, constraints_, s_.x);
+    const ConstraintHints& hints = check_.collect(cloth_);
     if (hints.empty()) return;  // nothing near its bound
     float *x = s_.x.x.at(), *y = s_.x.y.at(), *z = s_.x.z.at(), *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
     constrained_.x.resize(3, cloth_.n), constrained_.v.resize(3, cloth_.n);
