@@ -254,27 +254,39 @@ TEST(SmallSteps, ItsStepsTakeThePacedCountThroughAJump) {
     }
 }
 
+// A 33 x 33 flag on the stencil with `constraints`, and float positions for ConstraintCheck.
+struct CheckedFlag {
+    HangingFlagDesc d = withSide33();
+    HangingFlag flag = makeHangingFlag(d);
+    StencilCloth cloth;
+    ConstraintSet set;
+    Vec3Field x;
+    explicit CheckedFlag(const Constraints& constraints) {
+        EXPECT_EQ(cloth.build(flag.model), "");
+        set.set(constraints);
+        x.assign(cloth.n, cloth.pad);
+    }
+    static HangingFlagDesc withSide33() {
+        HangingFlagDesc d;
+        d.nx = d.ny = 33;
+        return d;
+    }
+};
+
 TEST(SmallSteps, ItsConstraintCheckListsEverySpringOverItsLimitInDouble) {
     // Each row of a 33 x 33 flag laid along x at 1.1 (1 - 1e-5) of the rest spacing, with y steps
     // that bring each of its springs' squared length in double (from the float positions) to its
     // limit's times 1 + d, d random in +-3e-7: some float roundings (1e-7) apart, so that half the
     // row's springs are over by less than float resolves. Every spring over its limit in double
     // must be listed; none under 0.9998 of it may be (the other families fall where they fall).
-    HangingFlagDesc d;
-    d.nx = d.ny = 33;
-    const HangingFlag flag = makeHangingFlag(d);
-    StencilCloth cloth;
-    ASSERT_EQ(cloth.build(flag.model), "");
-    ConstraintSet set;
-    set.set(Constraints{0, 0.1, 4});
+    CheckedFlag f(Constraints{0, 0.1, 4});
+    auto& [d, flag, cloth, set, x] = f;
     const StretchLimit& limit = set.stretchLimit(flag.model);
     ConstraintCheck check;
     const auto& springs = flag.model.passSprings();
     std::vector<Index> along(std::size_t(cloth.n), -1);  // the row spring from each particle to the next
     for (Index k = 0; k < Index(springs.size()); ++k)
         if (springs[std::size_t(k)].j == springs[std::size_t(k)].i + 1) along[std::size_t(springs[std::size_t(k)].i)] = k;
-    Vec3Field x;
-    x.assign(cloth.n, cloth.pad);
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> off(-3e-7, 3e-7);
     const double spacing = d.width / (d.nx - 1), below = 1.1 * spacing * (1 - 1e-5);
@@ -312,17 +324,10 @@ TEST(SmallSteps, ItsConstraintCheckListsEveryParticleBeyondItsTetherInDouble) {
     // distance from its anchor along the row, then moved across the row (y) so that its squared
     // distance in double (from the float positions) is its bound's times 1 + d, d random in
     // +-3e-7. Every particle beyond its bound in double must be listed; none under 0.9998 of it.
-    HangingFlagDesc d;
-    d.nx = d.ny = 33;
-    const HangingFlag flag = makeHangingFlag(d);
-    StencilCloth cloth;
-    ASSERT_EQ(cloth.build(flag.model), "");
-    ConstraintSet set;
-    set.set(Constraints{0.02, 0, 4});
+    CheckedFlag f(Constraints{0.02, 0, 4});
+    auto& [d, flag, cloth, set, x] = f;
     const Tethers& tethers = set.tethers(flag.model, flag.pins);
     ASSERT_EQ(tethers.tethered().size(), std::size_t(33 * 32));
-    Vec3Field x;
-    x.assign(cloth.n, cloth.pad);
     for (int r = 0; r < d.ny; ++r) x.z.at()[r * d.nx] = float(r * d.height / (d.ny - 1));  // the pins
     std::mt19937 rng(12);
     std::uniform_real_distribution<double> off(-3e-7, 3e-7);
