@@ -13,6 +13,10 @@ namespace cloth {
 
 namespace {
 
+// What the pass reads of a spring to decide whether it is over its limit: where its ends'
+// coordinates start in the positions (3 i, 3 j), and the squared length at or under which it is
+// left alone: its limit squared, or just under 1e-24 (no direction to pull along) when that is
+// larger. One compare per spring instead of two products and two compares.
 using Check = StretchLimit::Check;
 using Word = std::atomic<std::uint64_t>;
 
@@ -143,7 +147,7 @@ void StretchLimit::prepare(const Model& model, Scalar maxStretch) {
 
 void StretchLimit::addSpringsOf(Index particle, SpringBits& bits) const {
     for (Index e = springStart_[std::size_t(particle)]; e < springStart_[std::size_t(particle) + 1]; ++e)
-        bits[std::size_t(springsOf_[std::size_t(e)]) / 64] |= std::uint64_t(1) << (springsOf_[std::size_t(e)] % 64);
+        addSpring(bits, springsOf_[std::size_t(e)]);
 }
 
 // A marking pass's springs: the caller's, or those of the particles that moved at or after

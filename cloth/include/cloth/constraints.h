@@ -27,6 +27,7 @@ namespace cloth {
 
 // The springs in Model::passSprings()'s order as bits: spring k is bit k % 64 of word k / 64.
 using SpringBits = std::vector<std::uint64_t>;
+inline void addSpring(SpringBits& bits, Index k) { bits[std::size_t(k) / 64] |= std::uint64_t(1) << (k % 64); }
 
 // The stretch limit, with its tables (per spring: where its ends' coordinates start and the
 // squared length it may reach; per particle: its springs) kept while the model and the limit stay

@@ -93,7 +93,7 @@ const ConstraintHints& ConstraintCheck::collect(const StencilCloth& cloth) {
         for (std::size_t f = 0; f < families; ++f)
             forEachOver(over_[f].data(), over_[f].size(), [&](std::size_t p) {
                 const Index k = passIndex_[f][p];
-                if (k >= 0) hints_.springs[std::size_t(k) / 64] |= std::uint64_t(1) << (k % 64);
+                if (k >= 0) addSpring(hints_.springs, k);
             });
     }
     hints_.tethers.clear();

@@ -255,8 +255,9 @@ bool SmallStepsSolver::meetAtEnd(int index) {
 }
 
 // Thread `index`'s share of every substep (particles [begin, end)): the springs and the air at its
-// slots, then, once every thread's are done, its particles' integration, the constraints (on
-// thread 0) and its particles' collisions. Alone (together false) it takes every particle.
+// slots, then, once every thread's are done, its particles' integration; with constraints, its
+// slots' test against their bounds and, once every thread's is done, the constraints (on thread
+// 0); then its particles' collisions. Alone (together false) it takes every particle.
 void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
     Scalar since = 0;  // the fastest particle's move relative to the pole since the last contact
     int last = 0;      // the substep the last contact followed
