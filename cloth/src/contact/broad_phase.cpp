@@ -24,16 +24,17 @@ Scalar widest(const Vec3& axis, const Vec3& c, Scalar cc) { return widestCos(c.d
 // cosine: cos(t + w) = cos t cos w - sin t sin w, and a sum that reaches pi holds every direction.
 void mergeCones(const Vec3& a, Scalar ca, const Vec3& b, Scalar cb, Vec3& axis, Scalar& cosHalf) {
     const Vec3 sum = a + b;
-    if (sum.norm() < 1e-12 || ca <= -1 || cb <= -1) {
+    const Scalar norm = sum.norm();
+    if (norm < 1e-12 || ca <= -1 || cb <= -1) {
         axis = Vec3::UnitZ(), cosHalf = -1;
         return;
     }
-    axis = sum.normalized();
+    axis = sum / norm;  // normalized(), without its second square root
     cosHalf = std::min(widest(axis, a, ca), widest(axis, b, cb));
 }
 
 // The box holding two boxes: the same bits as adding both to an empty box.
-Box joined(const Box& a, const Box& b) {
+CLOTH_INLINE inline Box joined(const Box& a, const Box& b) {
     Box j;
     j.lo = a.lo.cwiseMin(b.lo), j.hi = a.hi.cwiseMax(b.hi);
     return j;
@@ -94,50 +95,7 @@ void BroadPhase::prepare(const Model& model) {
         leaves_.push_back(n), leafStart_.push_back(leafCorners_.size());
     }
     leafAxis_.assign(leaves_.size(), Vec3::UnitZ());
-}
-
-namespace {
-
-// The 16 offsets (dr, dc) of a cell two cells from another (the larger of |dr| and |dc| is 2),
-// numbered row by row: -1 for the others.
-constexpr std::array<std::array<int, 5>, 5> kTwoApartBits = {{
-    {0, 1, 2, 3, 4},
-    {5, -1, -1, -1, 6},
-    {7, -1, -1, -1, 8},
-    {9, -1, -1, -1, 10},
-    {11, 12, 13, 14, 15},
-}};
-
-int twoApartBit(int dr, int dc) {
-    return std::abs(dr) > 2 || std::abs(dc) > 2 ? -1 : kTwoApartBits[std::size_t(dr + 2)][std::size_t(dc + 2)];
-}
-
-}  // namespace
-
-// For each cell and each cell two cells from it: whether their primitives hold a pair far enough
-// apart to be searched (far). Most do not (every corner of one within kExcludedCells of some
-// corner of the other), and their boxes meet whenever the cloth bends: cellsMeet skips them.
-void BroadPhase::twoApartPairs() {
-    const int cells = (nx_ - 1) * (ny_ - 1);
-    twoApart_.assign(cells, 0);
-    auto anyPair = [&](int a, int b) {
-        for (Index v : cellVertices_[a])
-            for (Index t : cellTriangles_[b])
-                if (farTriangle(v, t)) return true;
-        for (Index e : cellEdges_[a])
-            for (Index f : cellEdges_[b])
-                if (farEdges(e, f)) return true;
-        return false;
-    };
-    for (int r = 0; r < ny_ - 1; ++r)
-        for (int c = 0; c < nx_ - 1; ++c)
-            for (int dr = -2; dr <= 2; ++dr)
-                for (int dc = -2; dc <= 2; ++dc) {
-                    const int bit = twoApartBit(dr, dc), rb = r + dr, cb = c + dc;
-                    if (bit < 0 || rb < 0 || cb < 0 || rb >= ny_ - 1 || cb >= nx_ - 1) continue;
-                    const int a = r * (nx_ - 1) + c, b = rb * (nx_ - 1) + cb;
-                    if (anyPair(a, b) || anyPair(b, a)) twoApart_[a] |= std::uint16_t(1u << bit);
-                }
+    nearLeaves();
 }
 
 int BroadPhase::build(int c0, int c1, int r0, int r1) {
@@ -315,7 +273,7 @@ void BroadPhase::cross(int a, int b, Search& search) {
 // meet have none, which is found again faster than it is looked up.
 void BroadPhase::leaves(int a, int b, Search& search) {
     Meet meet;
-    if (!cellsMeet(nodes_[a], nodes_[b], meet)) return;
+    if (!cellsMeet(a, b, meet)) return;
     const auto [at, first] = searched_.try_emplace((std::uint64_t(a) << 32) | std::uint32_t(b));
     Searched& s = at->second;
     if (first) {
@@ -329,35 +287,6 @@ void BroadPhase::leaves(int a, int b, Search& search) {
     }
     search.found += s.found;
     search.out.insert(search.out.end(), keptPairs_.begin() + std::ptrdiff_t(s.begin), keptPairs_.begin() + std::ptrdiff_t(s.end));
-}
-
-// A leaf's cells in order: each with its index, its place in the leaf, its row and column.
-template <class F>
-void BroadPhase::eachCell(const Node& n, F fn) const {
-    int k = 0;
-    for (int r = n.r0; r < n.r1; ++r)
-        for (int c = n.c0; c < n.c1; ++c) fn(Cell{r * (nx_ - 1) + c, k++, r, c});
-}
-
-// Two cells' primitives can form a pair only if the cells' boxes (each holding its triangles, and
-// so the vertices and edges it owns) overlap and the cells are more than one cell apart (within
-// one, every corner of one lies within kExcludedCells of every corner of the other), and, two
-// apart, only if they hold a far pair at all (twoApartPairs). Tested once for each two cells of two
-// leaves (meet[a][b], a leaf has at most 2 x 2 cells), from the cells' boxes alone, before the
-// leaves' edges and triangles have boxes (fresh): false if no two meet.
-bool BroadPhase::cellsMeet(const Node& A, const Node& B, Meet& meet) const {
-    static_assert(kExcludedCells >= 2, "cells within one of each other are skipped");
-    meet = {};
-    bool any = false;
-    eachCell(A, [&](const Cell& a) {
-        eachCell(B, [&](const Cell& b) {
-            const int apart = std::max(std::abs(a.r - b.r), std::abs(a.c - b.c));
-            const bool pairs = apart > 2 || (apart == 2 && (twoApart_[a.index] >> twoApartBit(b.r - a.r, b.c - a.c)) & 1);
-            meet[a.k][b.k] = pairs && cellBox_[a.index].overlaps(cellBox_[b.index]);
-            any = any || meet[a.k][b.k];
-        });
-    });
-    return any;
 }
 
 // The candidates of two leaves whose cells meet (cellsMeet), after fresh.

@@ -97,8 +97,11 @@ private:
     template <class F>
     void eachCell(const Node& n, F fn) const;
     using Meet = std::array<std::array<bool, 4>, 4>;  // two leaves' cells that may hold a pair
-    bool cellsMeet(const Node& a, const Node& b, Meet& meet) const;
+    bool cellsMeet(int a, int b, Meet& meet) const;
+    bool apartPairs(int a, int dr, int dc) const;
     void twoApartPairs();
+    void nearLeaves();
+    std::uint16_t farCells(int a, int b) const;
     void leafPairs(const Node& a, const Node& b, const Meet& meet, std::vector<Pair>& out) const;
     bool far(Index u, Index v) const;  // more than kExcludedCells cells apart
     bool farTriangle(Index v, Index t) const;
@@ -115,6 +118,11 @@ private:
     std::vector<Box> vertexBox_, edgeBox_, triangleBox_, cellBox_;
     std::vector<std::array<Index, 4>> cellCorners_;  // per cell: its triangles' corners (the last repeated up to four)
     std::vector<std::uint16_t> twoApart_;  // per cell: bit twoApartBit(dr, dc) if the cell there holds a far pair with it
+    // Per node, for a leaf: its cells (in eachCell's order, the rest -1), and the leaves within two
+    // cells of it, each with the bits 4 ka + kb of the two leaves' cells that hold a far pair
+    // (apartPairs). Leaves further apart hold one in any two cells.
+    std::vector<std::array<int, 4>> leafCells_;
+    std::vector<std::vector<std::pair<int, std::uint16_t>>> nearLeaves_;
     std::vector<std::uint64_t> cellStamp_;         // per cell: the refit its edges' and triangles' boxes are of
     std::uint64_t stamp_ = 0;                      // refits since prepare
     Scalar margin_ = 0;
@@ -134,5 +142,13 @@ private:
     std::unordered_map<std::uint64_t, Searched> searched_;
     std::vector<Pair> keptPairs_, candidates_;
 };
+
+// A leaf's cells in order: each with its index, its place in the leaf, its row and column.
+template <class F>
+void BroadPhase::eachCell(const Node& n, F fn) const {
+    int k = 0;
+    for (int r = n.r0; r < n.r1; ++r)
+        for (int c = n.c0; c < n.c1; ++c) fn(Cell{r * (nx_ - 1) + c, k++, r, c});
+}
 
 }  // namespace cloth::contact
