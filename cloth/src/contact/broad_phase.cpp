@@ -16,23 +16,6 @@ constexpr Scalar kFlat = 0.087;
 // A bound on a merged cone's rounding above the narrower of its two cones' cosines (about 1e-16).
 constexpr Scalar kConeRounding = 1e-9;
 
-// The cosine of the widest angle to `axis` of a cone (c, cos of its half-angle cc): widestCos.
-Scalar widest(const Vec3& axis, const Vec3& c, Scalar cc) { return widestCos(c.dot(axis), cc); }
-
-// The cone holding two cones (axis, cos of half-angle): its axis the normalized sum, its angle
-// the larger of each cone's angle plus its axis's angle to the new one. In cosines, with no inverse
-// cosine: cos(t + w) = cos t cos w - sin t sin w, and a sum that reaches pi holds every direction.
-void mergeCones(const Vec3& a, Scalar ca, const Vec3& b, Scalar cb, Vec3& axis, Scalar& cosHalf) {
-    const Vec3 sum = a + b;
-    const Scalar norm = sum.norm();
-    if (norm < 1e-12 || ca <= -1 || cb <= -1) {
-        axis = Vec3::UnitZ(), cosHalf = -1;
-        return;
-    }
-    axis = sum / norm;  // normalized(), without its second square root
-    cosHalf = std::min(widest(axis, a, ca), widest(axis, b, cb));
-}
-
 // The box holding two boxes: the same bits as adding both to an empty box.
 CLOTH_INLINE inline Box joined(const Box& a, const Box& b) {
     Box j;
@@ -182,7 +165,8 @@ void BroadPhase::leafCones() {
     for (std::size_t j = 0; j < leaves_.size(); ++j) {
         Scalar cosHalf = 1;
         for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) cosHalf = std::min(cosHalf, widest_[k]);
-        nodes_[std::size_t(leaves_[j])].cosHalf = cosHalf;
+        Node& leaf = nodes_[std::size_t(leaves_[j])];
+        leaf.cosHalf = cosHalf, leaf.partner = partnerCos(cosHalf, kFlat);
     }
 }
 
@@ -199,6 +183,7 @@ void BroadPhase::refitCones(int n) {
         else mergeCones(nodes_[n].axis, nodes_[n].cosHalf, child.axis, child.cosHalf, nodes_[n].axis, nodes_[n].cosHalf);
         first = false;
     }
+    nodes_[n].partner = partnerCos(nodes_[n].cosHalf, kFlat);
 }
 
 // The boxes of a leaf's edges and triangles in this refit.
@@ -255,12 +240,9 @@ void BroadPhase::cross(int a, int b, Search& search) {
     // Two adjacent nodes whose joint cone is flat are one flat patch. The joint cone is no
     // narrower than either node's (up to rounding, far under kConeRounding): when one is not
     // flat, neither is it, and it is not computed.
-    if (adjacent && std::min(A.cosHalf, B.cosHalf) > kFlat - kConeRounding) {
-        Vec3 axis;
-        Scalar cosHalf = -1;
-        mergeCones(A.axis, A.cosHalf, B.axis, B.cosHalf, axis, cosHalf);
-        if (cosHalf > kFlat) return;
-    }
+    if (adjacent && std::min(A.cosHalf, B.cosHalf) > kFlat - kConeRounding &&
+        mergedWithin(A.axis, A.cosHalf, A.partner, B.axis, B.cosHalf, B.partner, kFlat))
+        return;
     if (A.leaf() && B.leaf()) return leaves(a, b, search);
     const bool splitA = !A.leaf() && (B.leaf() || (A.c1 - A.c0) * (A.r1 - A.r0) >= (B.c1 - B.c0) * (B.r1 - B.r0));
     const Node& big = splitA ? A : B;

@@ -73,6 +73,7 @@ private:
         Box box;
         Vec3 axis = Vec3::UnitZ();
         Scalar cosHalf = 1;  // every normal n has n . axis >= cosHalf (a cone of half-angle acos)
+        Scalar partner = 2;  // partnerCos(cosHalf, kFlat): for a flat node, how far another's axis may turn
         bool leaf() const { return child[0] < 0; }
     };
     int build(int c0, int c1, int r0, int r1);

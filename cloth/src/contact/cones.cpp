@@ -1,5 +1,6 @@
 #include "contact/cones.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "simd.h"
@@ -47,6 +48,35 @@ CLOTH_IVDEP
 }
 
 }  // namespace
+
+void mergeCones(const Vec3& a, Scalar ca, const Vec3& b, Scalar cb, Vec3& axis, Scalar& cosHalf) {
+    const Vec3 sum = a + b;
+    const Scalar norm = sum.norm();
+    if (norm < 1e-12 || ca <= -1 || cb <= -1) {
+        axis = Vec3::UnitZ(), cosHalf = -1;
+        return;
+    }
+    axis = sum / norm;  // normalized(), without its second square root
+    cosHalf = std::min(widestCos(a.dot(axis), ca), widestCos(b.dot(axis), cb));
+}
+
+Scalar partnerCos(Scalar cc, Scalar flat) {
+    if (!(cc > flat)) return 2;
+    const Scalar c = flat * cc + std::sqrt(1 - flat * flat) * std::sqrt(std::max(Scalar(0), 1 - cc * cc));
+    return 2 * c * c - 1;
+}
+
+bool mergedWithin(const Vec3& a, Scalar ca, Scalar pa, const Vec3& b, Scalar cb, Scalar pb, Scalar flat) {
+    if (ca > flat && cb > flat) {
+        const Scalar d = a.dot(b), bound = std::max(pa, pb);
+        if (d > bound + kDecided) return true;
+        if (d < bound - kDecided) return false;
+    }
+    Vec3 axis;
+    Scalar cosHalf = -1;
+    mergeCones(a, ca, b, cb, axis, cosHalf);
+    return cosHalf > flat;
+}
 
 void motionCones(const Points& y0, const Points& y1, const std::vector<Scalar>& reach, const Corners& triangles,
                  ConeScratch& s, Cones& out) {

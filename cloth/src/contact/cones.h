@@ -53,6 +53,28 @@ CLOTH_INLINE inline Scalar widestCos(Scalar dot, Scalar cc) {
     return all ? Scalar(-1) : ct * cw - std::sqrt(product);
 }
 
+// The cone holding two cones (axis, cos of half-angle): its axis the normalized sum, its angle
+// the larger of each cone's angle plus its axis's angle to the new one. In cosines, with no inverse
+// cosine: cos(t + w) = cos t cos w - sin t sin w, and a sum that reaches pi holds every direction.
+void mergeCones(const Vec3& a, Scalar ca, const Vec3& b, Scalar cb, Vec3& axis, Scalar& cosHalf);
+
+// For a cone of half-angle w within acos(flat) (its cosine cc > flat): the cosine of the widest
+// angle between its axis and another's, of a cone no wider, at which the two merged stay within
+// acos(flat). The merged cone's half-angle is half the angle between the axes plus the wider
+// cone's, so the angle is 2 (acos(flat) - w), and its cosine 2 cos^2(acos(flat) - w) - 1 with
+// cos(acos(flat) - w) = flat cc + sqrt(1 - flat^2) sqrt(1 - cc^2). Where cc <= flat: 2, which
+// no cosine exceeds.
+Scalar partnerCos(Scalar cc, Scalar flat);
+
+// Whether two cones merged (mergeCones) lie within acos(flat) of their axis, with each cone's
+// partnerCos: when both are within it, from the axes' cosine a . b against the wider cone's
+// partnerCos, where the two differ by more than kDecided; else, and near that bound, from
+// mergeCones itself. Rounding moves a . b and partnerCos by about 1e-15 and mergeCones' cosine
+// by at most 1e-8 (a square root's slope near an angle of zero): far under kDecided, so both
+// give the same answer.
+inline constexpr Scalar kDecided = 1e-6;
+bool mergedWithin(const Vec3& a, Scalar ca, Scalar pa, const Vec3& b, Scalar cb, Scalar pb, Scalar flat);
+
 // The cones in groups: group j is cones [start[j], start[j + 1]), with the axis axes[j]. For cone
 // k, the cosine of its widest angle to its group's axis (widestCos), written to widest[k].
 void widestToAxes(const Cones& cones, const std::vector<std::size_t>& start, const std::vector<Vec3>& axes,

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cstdlib>
 #include <random>
@@ -138,4 +139,44 @@ TEST(BroadPhase, ACrumpledClothsSelfPairsAreEveryFarPairWhoseBoxesMeet) {
             EXPECT_TRUE(extra.empty()) << extra.size() << " pairs listed that the search over every pair does not";
         }
     }
+}
+
+// Whether two adjacent nodes' cones merged are flat, decided from their axes' cosine against a
+// bound (contact/cones.h, mergedWithin), against the merged cone itself (mergeCones): the same
+// answer for cones at any angle, and for angles within 1e-12 to 1e-3 radians of the bound, where
+// half of them are flat and half not.
+TEST(BroadPhase, TwoConesAreFlatTogetherExactlyWhenTheirMergedConeIs) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<Scalar> unit(-1, 1), share(0, 1);
+    auto randomAxis = [&] {
+        Vec3 v;
+        do v = Vec3(unit(rng), unit(rng), unit(rng));
+        while (v.norm() < 0.1);
+        return Vec3(v.normalized());
+    };
+    int flatNearTheBound = 0, near = 0;
+    for (const Scalar flat : {0.087, 0.5}) {
+        for (int k = 0; k < 200000; ++k) {
+            const Scalar ca = flat + (1 - flat) * share(rng), cb = flat + (1 - flat) * share(rng);
+            const Vec3 a = randomAxis();
+            // The widest angle at which the two merged stay flat: twice what the wider leaves.
+            const Scalar bound = 2 * (std::acos(flat) - std::acos(std::min(ca, cb)));
+            const bool atTheBound = k % 2 == 1;
+            const Scalar offset = std::pow(10.0, -3 - 9 * share(rng)) * (k % 4 == 1 ? 1 : -1);
+            const Scalar angle = atTheBound ? bound + offset : M_PI * share(rng);
+            if (angle < 0 || angle > M_PI) continue;
+            const Vec3 across = a.cross(randomAxis()).normalized();
+            const Vec3 b = (std::cos(angle) * a + std::sin(angle) * across).normalized();
+            Vec3 axis;
+            Scalar merged = -1;
+            contact::mergeCones(a, ca, b, cb, axis, merged);
+            const bool flatTogether = merged > flat;
+            ASSERT_EQ(contact::mergedWithin(a, ca, contact::partnerCos(ca, flat), b, cb, contact::partnerCos(cb, flat), flat),
+                      flatTogether)
+                << "flat " << flat << ", cones " << ca << " and " << cb << ", angle " << angle << " (bound " << bound << ")";
+            if (atTheBound) ++near, flatNearTheBound += flatTogether;
+        }
+    }
+    EXPECT_GT(flatNearTheBound, near / 4);
+    EXPECT_LT(flatNearTheBound, 3 * near / 4);
 }
