@@ -7,7 +7,6 @@
 #include <cstdlib>
 
 #include "contact/broad_phase.h"
-#include "simd.h"
 
 namespace cloth::contact {
 
@@ -25,13 +24,6 @@ constexpr std::array<std::array<int, 5>, 5> kTwoApartBits = {{
 
 int twoApartBit(int dr, int dc) {
     return std::abs(dr) > 2 || std::abs(dc) > 2 ? -1 : kTwoApartBits[std::size_t(dr + 2)][std::size_t(dc + 2)];
-}
-
-// Box::overlaps without branches: the six comparisons all made (about half the cells tested meet,
-// which a branch mispredicts).
-CLOTH_INLINE inline bool meets(const Box& a, const Box& b) {
-    return (a.lo.x() <= b.hi.x()) & (a.lo.y() <= b.hi.y()) & (a.lo.z() <= b.hi.z()) & (b.lo.x() <= a.hi.x()) &
-           (b.lo.y() <= a.hi.y()) & (b.lo.z() <= a.hi.z());
 }
 
 }  // namespace
@@ -121,7 +113,7 @@ bool BroadPhase::cellsMeet(int a, int b, Meet& meet) const {
     bool any = false;
     for (unsigned bits = farCells(a, b); bits != 0; bits &= bits - 1) {
         const int bit = __builtin_ctz(bits), ka = bit >> 2, kb = bit & 3;
-        const bool m = meets(cellBox_[std::size_t(ca[std::size_t(ka)])], cellBox_[std::size_t(cb[std::size_t(kb)])]);
+        const bool m = cellBox_[std::size_t(ca[std::size_t(ka)])].overlaps(cellBox_[std::size_t(cb[std::size_t(kb)])]);
         meet[std::size_t(ka)][std::size_t(kb)] = m;
         any = any | m;
     }
