@@ -34,8 +34,9 @@ struct Box {
     // All six comparisons made, without branches: about half the boxes the search tests meet,
     // which a branch mispredicts.
     bool overlaps(const Box& b) const {
-        return (lo.x() <= b.hi.x()) & (lo.y() <= b.hi.y()) & (lo.z() <= b.hi.z()) & (b.lo.x() <= hi.x()) &
-               (b.lo.y() <= hi.y()) & (b.lo.z() <= hi.z());
+        const int met = int(lo.x() <= b.hi.x()) & int(lo.y() <= b.hi.y()) & int(lo.z() <= b.hi.z()) &
+                        int(b.lo.x() <= hi.x()) & int(b.lo.y() <= hi.y()) & int(b.lo.z() <= hi.z());
+        return met != 0;
     }
 };
 
