@@ -109,9 +109,15 @@ std::unique_ptr<cloth::Solver> solverOf(const char* spec) {
 
 // One step of `spec` per iteration, from the same state each time (put back outside the timing).
 // Counters are per call: `calls` kernel calls per step (substeps, passes, iterations).
-void step(benchmark::State& bm, const char* spec, bool air, double flopsPerCall, double bytesPerCall, int calls) {
+void step(benchmark::State& bm, const char* spec, bool air, double flopsPerCall, double bytesPerCall, int calls,
+          const char* constraints = nullptr) {
     Flag33 f;
     auto solver = solverOf(spec);
+    if (constraints) {
+        cloth::Constraints c;
+        cloth::parseConstraints(constraints, c, nullptr);
+        solver->setConstraints(c);
+    }
     cloth::StepInput in = f.input();
     if (air) in.air = &f.air;
     const cloth::State start = f.flag.state;
@@ -160,7 +166,40 @@ constexpr double kPaperFlops = 20 * kS + 600 * kN, kPaperBytes = 4 * (6 * 6 * kN
 // ends.
 constexpr double kXpbdFlops = 40 * kS, kXpbdBytes = 8 * 12 * kS;
 
+// The true motion's constraints after each substep (tethers at 2%, the stretch limit at 10% in four
+// passes), as small_steps runs them: the float test of every spring slot of the six families (9
+// flops: difference, squared length, comparison) and of every particle against its tether's anchor
+// (9), on positions (12 bytes a particle), each slot's listed square and its flag (5 bytes), an
+// anchor, its square and a flag per particle (9). On this flag nothing is over a bound, as in most
+// of the true motion's substeps, so nothing is corrected: the row is the check and its collection.
+// Its counters are per call, not rates: the constraints' time is this row's less
+// small_steps_substep_64's (tools/roofline_table.py).
+constexpr double kCheckFlops = 6 * 9 * kN + 9 * kN, kCheckBytes = 12 * kN + 6 * 5 * kN + 9 * kN;
+
 void smallStepsSubstep(benchmark::State& bm) { step(bm, "small_steps:substeps=64", true, kSmallStepsFlops, kSmallStepsBytes, 64); }
+constexpr const char* kTrueMotionConstraints = "tether=0.02,stretch_limit=0.1,stretch_passes=4";
+
+// How far the constraints move any particle in one step of the row below (0: it times the check).
+double movedByConstraints() {
+    Flag33 with, without;
+    cloth::StepInput in = with.input();
+    in.air = &with.air;
+    auto a = solverOf("small_steps:substeps=64"), b = solverOf("small_steps:substeps=64");
+    cloth::Constraints c;
+    cloth::parseConstraints(kTrueMotionConstraints, c, nullptr);
+    a->setConstraints(c);
+    a->step(with.flag.model, {}, with.flag.state, in);
+    b->step(without.flag.model, {}, without.flag.state, in);
+    return (with.flag.state.x - without.flag.state.x).cwiseAbs().maxCoeff();
+}
+
+void smallStepsConstrained(benchmark::State& bm) {
+    step(bm, "small_steps:substeps=64", true, 0, 0, 64, kTrueMotionConstraints);
+    bm.counters["moved_by_constraints"] = movedByConstraints();
+    bm.counters.erase("flops_per_s"), bm.counters.erase("bytes_per_s");
+    bm.counters["check_flops_per_call"] = kCheckFlops;
+    bm.counters["check_bytes_per_call"] = kCheckBytes;
+}
 void explicitSubstep(benchmark::State& bm) { step(bm, "explicit:substeps=64", false, kExplicitFlops, kExplicitBytes, 64); }
 void paperStepFloat(benchmark::State& bm) { step(bm, "kangcho:precision=float", false, kPaperFlops, kPaperBytes, 1); }
 void xpbdPass(benchmark::State& bm) { step(bm, "xpbd", false, kXpbdFlops, kXpbdBytes, 1); }
@@ -242,6 +281,7 @@ BENCHMARK_CAPTURE(peak, fma, true)->Name("roof/peak_fma")->Threads(1)->Threads(2
 BENCHMARK_CAPTURE(peak, mul_add, false)->Name("roof/peak_mul_add")->Threads(1)->Threads(2)->UseRealTime();
 BENCHMARK(streamTriad)->Name("roof/stream_triad")->Threads(1)->Threads(2)->UseRealTime();
 BENCHMARK(smallStepsSubstep)->Name("kernel/small_steps_substep_64/33")->Unit(benchmark::kMicrosecond);
+BENCHMARK(smallStepsConstrained)->Name("kernel/small_steps_constraints_64/33")->Unit(benchmark::kMicrosecond);
 BENCHMARK(explicitSubstep)->Name("kernel/explicit_substep_64/33")->Unit(benchmark::kMicrosecond);
 BENCHMARK(paperStepFloat)->Name("kernel/paper_step_float/33")->Unit(benchmark::kMicrosecond);
 BENCHMARK(xpbdPass)->Name("kernel/xpbd_pass/33")->Unit(benchmark::kMicrosecond);

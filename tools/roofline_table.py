@@ -27,7 +27,9 @@ def medians(path):
         scale = {"ns": 1e-3, "us": 1.0, "ms": 1e3}[bs[0].get("time_unit", "ns")]
         med = lambda key: statistics.median(b.get(key, 0.0) for b in bs)
         out[name] = {"real_us": med("real_time") * scale, "cpu_us": med("cpu_time") * scale,
-                     "flops": med("flops_per_s"), "bytes": med("bytes_per_s"), "calls": med("calls_per_step") or 1}
+                     "flops": med("flops_per_s"), "bytes": med("bytes_per_s"), "calls": med("calls_per_step") or 1,
+                     "check_flops": med("check_flops_per_call"), "check_bytes": med("check_bytes_per_call"),
+                     "moved": med("moved_by_constraints")}
     return out
 
 
@@ -41,7 +43,25 @@ def roofs(runs):
 
 
 # The kernels in float (8 lanes); the others run in double (4 lanes: half the float roof).
-FLOAT_KERNELS = {"small_steps_substep_64/33", "paper_step_float/33"}
+FLOAT_KERNELS = {"small_steps_substep_64/33", "paper_step_float/33", "small_steps_constraints_64/33"}
+# Rows timed as the difference of two runs: the substep with the true motion's constraints less the
+# same substep without them is the constraints' time per call (their check in float SIMD).
+DIFFERENCES = {"small_steps_constraints_64/33": "small_steps_substep_64/33"}
+
+
+def per_call_row(name, k, runs):
+    """(us per call, GFLOP/s, KB per call, kFLOP per call) of a kernel row, or None when not counted."""
+    per_call = k["cpu_us"] / k["calls"]
+    if name in DIFFERENCES:
+        base = runs.get("kernel/" + DIFFERENCES[name])
+        per_call -= base["cpu_us"] / base["calls"] if base else per_call
+        if per_call <= 0:
+            return per_call, None
+        return per_call, (k["check_flops"] / 1e3 / per_call, k["check_flops"] / 1e3, k["check_bytes"] / 1e3)
+    gflops = k["flops"] / 1e9
+    if gflops <= 0:
+        return per_call, None
+    return per_call, (gflops, gflops * per_call, k["bytes"] / 1e9 * per_call)
 
 
 def main():
@@ -60,17 +80,21 @@ def main():
     for name, k in runs.items():
         if not name.startswith("kernel/"):
             continue
-        per_call = k["cpu_us"] / k["calls"]
-        gflops = k["flops"] / 1e9
         single = name[7:] in FLOAT_KERNELS
         roof = r[1]["mul_add"] * (1 if single else 0.5)  # the library is built without FMA contraction
         precision = "float" if single else "double"
-        if gflops > 0:
-            kflop, kb = gflops * per_call, k["bytes"] / 1e9 * per_call
+        per_call, counted = per_call_row(name[7:], k, runs)
+        if counted:
+            gflops, kflop, kb = counted
             print(f"| {name[7:]} | {precision} | {per_call:.1f} | {kflop:.0f} | {kb:.0f} | {gflops:.2f} | "
                   f"{100 * gflops / roof:.1f}% |")
         else:
             print(f"| {name[7:]} | {precision} | {per_call:.1f} | not counted | not counted | | |")
+    for name in DIFFERENCES:
+        k = runs.get("kernel/" + name)
+        if k:
+            print(f"\n{name}: its time per call less {DIFFERENCES[name]}'s; in its step the constraints "
+                  f"move a particle by at most {k['moved']:.3g} m (0: the row times their check alone).")
 
 
 if __name__ == "__main__":
