@@ -88,7 +88,7 @@ def contact_split(label, path):
     broad, frames, apps = c["broad_phase_ms"], len(rows), max(1, c["applications"])
     return (f"| {label} | {contact / frames:.2f} | {broad / frames:.2f} | {(contact - broad) / frames:.2f} | "
             f"{1000 * broad / apps:.0f} | {1000 * (contact - broad) / apps:.0f} | {broad / other:.2f} | "
-            f"{(contact - broad) / other:.2f} | {1 + contact / other:.2f} |")
+            f"{(contact - broad) / other:.2f} | {1 + contact / other:.2f} | {c.get('self_pairs', 0) / apps:.1f} |")
 
 
 def print_contact_split(args):
@@ -98,8 +98,8 @@ def print_contact_split(args):
     print()
     print("| run with contact | contact (ms/frame) | broad phase | sub-intervals | broad phase (us/application) | "
           "sub-intervals (us/application) | broad phase x the other phases | sub-intervals x the other phases | "
-          "cloth x its other phases |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "cloth x its other phases | self pairs per application |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     print("\n".join(split))
 
 
