@@ -50,11 +50,14 @@ DIFFERENCES = {"small_steps_constraints_64/33": "small_steps_substep_64/33"}
 
 
 def per_call_row(name, k, runs):
-    """(us per call, GFLOP/s, KB per call, kFLOP per call) of a kernel row, or None when not counted."""
+    """A kernel row's us per call and its (GFLOP/s, kFLOP per call, KB per call), or None when not
+    counted (a difference row without its base row, or with no time left over it)."""
     per_call = k["cpu_us"] / k["calls"]
     if name in DIFFERENCES:
         base = runs.get("kernel/" + DIFFERENCES[name])
-        per_call -= base["cpu_us"] / base["calls"] if base else per_call
+        if not base:
+            return per_call, None
+        per_call -= base["cpu_us"] / base["calls"]
         if per_call <= 0:
             return per_call, None
         return per_call, (k["check_flops"] / 1e3 / per_call, k["check_flops"] / 1e3, k["check_bytes"] / 1e3)
