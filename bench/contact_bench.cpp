@@ -11,13 +11,15 @@
 //     above it and moving with it (hundreds of pairs at every sub-interval, as in the demo's
 //     folds).
 // Argument: the flag's side. Counters per call: self pairs, sub-intervals and the broad phase's
-// microseconds (ContactReport::broadPhaseMs).
+// microseconds (ContactReport::broadPhaseMs). The `_2threads` rows run the same with a pool of two
+// threads as the application's parallel loops (ContactStage::apply's `loops`).
 
 #include <benchmark/benchmark.h>
 
 #include <vector>
 
 #include "cloth/contact.h"
+#include "cloth/thread_pool.h"
 #include "swung_pole.h"
 
 namespace {
@@ -34,7 +36,7 @@ void fold(const cloth::Model& model, cloth::Points& x) {
 
 enum class Case { Hanging, Swung, Folded };
 
-void contactApply(benchmark::State& bm, Case what) {
+void contactApply(benchmark::State& bm, Case what, int threads) {
     const bench::Pole motion = what == Case::Hanging ? bench::Pole::Still : bench::Pole::Swung;
     cloth::HangingFlag flag = bench::flagOfSize(static_cast<int>(bm.range(0)));
     auto solver = bench::demoSolver("tether=0.02,stretch_limit=0.1");
@@ -56,12 +58,14 @@ void contactApply(benchmark::State& bm, Case what) {
     settings.enabled = true, settings.thickness = 0.015;
 
     cloth::ContactStage stage;  // its broad phase's tree built once, as a cloth keeps it
+    cloth::ThreadPool pool(threads);
     cloth::ContactReport sum;
     for (auto _ : bm) {
         bm.PauseTiming();
         flag.state = end;
         bm.ResumeTiming();
-        sum += stage.apply(flag.model, pinned, xStart, flag.state, from, to, {pole}, settings, bench::kH);
+        sum += stage.apply(flag.model, pinned, xStart, flag.state, from, to, {pole}, settings, bench::kH,
+                           threads > 1 ? &pool : nullptr);
         benchmark::ClobberMemory();
     }
     const double calls = double(sum.applications);
@@ -72,6 +76,9 @@ void contactApply(benchmark::State& bm, Case what) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(contactApply, hanging, Case::Hanging)->Arg(33)->Arg(65)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(contactApply, swung, Case::Swung)->Arg(33)->Arg(65)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(contactApply, folded, Case::Folded)->Arg(33)->Arg(65)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(contactApply, hanging, Case::Hanging, 1)->Arg(33)->Arg(65)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(contactApply, swung, Case::Swung, 1)->Arg(33)->Arg(65)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(contactApply, folded, Case::Folded, 1)->Arg(33)->Arg(65)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(contactApply, hanging_2threads, Case::Hanging, 2)->Arg(65)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(contactApply, swung_2threads, Case::Swung, 2)->Arg(65)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(contactApply, folded_2threads, Case::Folded, 2)->Arg(65)->Unit(benchmark::kMicrosecond);

@@ -199,16 +199,18 @@ void Cloth::collide(const std::vector<Collider>& colliders) {
 void Cloth::makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h) {
     if (observer_) observer_->stageBegins(ClothStage::Contact);
     contactReport_ = {};
-    const auto [t0, t1] = contactOver(from, to, xStart_, state_, h);
+    const auto [t0, t1] = contactOver(from, to, xStart_, state_, h, &solver_->threadPool());
     if (observer_) observer_->stageEnded(ClothStage::Contact, t0, t1);  // the span the profile adds up
 }
 
 // The contact stage over one motion, its report added to the step's and its time to the profile's;
 // returns when it began and ended.
 std::pair<Clock::time_point, Clock::time_point> Cloth::contactOver(const RigidFrame& from, const RigidFrame& to,
-                                                                   const Points& xStart, State& state, Scalar h) {
+                                                                   const Points& xStart, State& state, Scalar h,
+                                                                   ParallelFor* loops) {
     const auto t0 = Clock::now();
-    const ContactReport r = contactStage_.apply(model_, pinned_, xStart, state, from, to, solids_, settings_.contact, h);
+    const ContactReport r =
+        contactStage_.apply(model_, pinned_, xStart, state, from, to, solids_, settings_.contact, h, loops);
     contactReport_ += r, contactTotal_ += r;
     const auto t1 = Clock::now();
     profile_.contact += msBetween(t0, t1);
@@ -217,8 +219,8 @@ std::pair<Clock::time_point, Clock::time_point> Cloth::contactOver(const RigidFr
 
 // Inside the solver's step, on its thread: no stage is told to the observer (it is inside the
 // solve's), its time is the profile's contact, taken out of the solve's.
-void Cloth::SubstepHook::apply(Scalar f0, Scalar f1, const Points& xStart, State& state, Scalar h) {
-    cloth->contactOver(between(from, to, f0), between(from, to, f1), xStart, state, h);
+void Cloth::SubstepHook::apply(Scalar f0, Scalar f1, const Points& xStart, State& state, Scalar h, ParallelFor* loops) {
+    cloth->contactOver(between(from, to, f0), between(from, to, f1), xStart, state, h, loops);
 }
 
 bool Cloth::stepOnce(Scalar h, const std::vector<Collider>& colliders, const RigidFrame& from, const RigidFrame& to) {

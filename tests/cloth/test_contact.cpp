@@ -9,6 +9,7 @@
 
 #include "cloth/contact.h"
 #include "cloth/crossings.h"
+#include "cloth/thread_pool.h"
 
 using namespace cloth;
 
@@ -270,3 +271,35 @@ TEST(Contact, LayersPressedTogetherSlideAlongEachOtherWithHalfSpaceBoundsAndAreH
     }
 }
 
+
+TEST(Contact, AFoldedClothOnTwoThreadsGetsTheBitsOfOneThread) {
+    // A 65 x 65 sheet 1 m across (large enough that the application's loops run on the threads),
+    // its right half folded over its left 2 cm above it and pressed 3 cm down through it in the
+    // step: thousands of self pairs, searched in stripes on two threads and gathered in the tree's
+    // order, and sub-intervals that push. Any change of order or of a box would change the bits.
+    ContactSettings set = on();
+    set.self = true, set.thickness = 0.015;
+    auto folded = [](Sheet& s, Scalar lift) {
+        const int n = s.model.gridNx(), m = (n - 1) / 2;
+        for (int r = 0; r < n; ++r)
+            for (int c = m + 1; c < n; ++c) s.state.x.col(r * n + c) = s.state.x.col(r * n + 2 * m - c) + Vec3(0, 0, lift);
+    };
+    auto run = [&](ParallelFor* loops) {
+        Sheet s = sheet(65, 65, 1.0, 1.0, Vec3(0, 0, 0));
+        folded(s, 0.02);
+        const Points start = s.state.x;
+        folded(s, -0.01);
+        ContactStage stage;
+        const ContactReport r = stage.apply(s.model, s.pinned, start, s.state, RigidFrame{}, RigidFrame{}, {}, set, 1.0 / 240, loops);
+        return std::pair{s.state, r};
+    };
+    const auto [one, r1] = run(nullptr);
+    ThreadPool two(2);
+    const auto [both, r2] = run(&two);
+    EXPECT_GT(r1.selfPairs, 1000);
+    EXPECT_GT(r1.limited, 0);
+    EXPECT_EQ(r2.selfPairs, r1.selfPairs);
+    EXPECT_EQ(r2.subintervals, r1.subintervals);
+    EXPECT_TRUE(both.x == one.x);
+    EXPECT_TRUE(both.v == one.v);
+}

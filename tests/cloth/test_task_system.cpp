@@ -92,11 +92,11 @@ private:
     std::vector<std::function<void()>> tasks_;
 };
 
-// The flag at 17x17 on `solver`, in the wind on the turning carrier, with its pole, tethers, the
-// stretch limit and contact: what the true-motion scene runs.
-Cloth hostFlag(const std::string& solver) {
+// The flag at side x side (17 unless given) on `solver`, in the wind on the turning carrier, with
+// its pole, tethers, the stretch limit and contact: what the true-motion scene runs.
+Cloth hostFlag(const std::string& solver, int side = 17) {
     FlagDesc f;
-    f.nx = f.ny = 17, f.onShell = true;
+    f.nx = f.ny = side, f.onShell = true;
     ClothSettings s;
     std::string error;
     EXPECT_TRUE(parseSolverConfig(solver, s.solver, &error)) << error;
@@ -110,11 +110,12 @@ Cloth hostFlag(const std::string& solver) {
 constexpr int kHostTicks = 40;
 constexpr double kTick = 1.0 / 240;
 
-// The flag after kHostTicks, its host (if any) drained after every tick by `afterTick`.
-State runFlag(const std::string& solver, TaskSystem* host, const std::function<void()>& afterTick = {}) {
-    Cloth cloth = hostFlag(solver);
+// The flag after `ticks`, its host (if any) drained after every tick by `afterTick`.
+State runFlag(const std::string& solver, TaskSystem* host, const std::function<void()>& afterTick = {}, int side = 17,
+              int ticks = kHostTicks) {
+    Cloth cloth = hostFlag(solver, side);
     cloth.setTaskSystem(host);
-    for (int k = 1; k <= kHostTicks; ++k) {
+    for (int k = 1; k <= ticks; ++k) {
         cloth.step(kTick, turningCarrier(k * kTick), {});
         if (afterTick) afterTick();
     }
@@ -163,4 +164,33 @@ TEST(TaskSystem, TasksRunAfterTheirClothIsGoneDoNothing) {
     }
     ASSERT_GT(host.pending(), 0u);
     host.drain();
+}
+
+TEST(TaskSystem, ContactOnTheStepsThreadsGivesTheBitsOfOneThread) {
+    // At 65x65 small_steps' contact runs its loops on the step's threads (its other thread serving
+    // them while thread 0 runs the contact, small_steps/crew.h): the pool's threads or a host's
+    // give the bits of one thread, and the same primitives near the pole in every application (its
+    // boxes made on both threads). The carrier spins the flag round its pole at 30 rad/s.
+    auto spun = [](double t) {
+        RigidFrame c;
+        c.rotation = Eigen::AngleAxisd(30 * t, Vec3::UnitY());
+        c.angularVelocity = Vec3(0, 30, 0);
+        return c;
+    };
+    auto run = [&](const std::string& threads, TaskSystem* host) {
+        Cloth cloth = hostFlag("small_steps:max_move=0.01,threads=" + threads, 65);
+        cloth.setTaskSystem(host);
+        for (int k = 1; k <= 12; ++k) cloth.step(kTick, spun(k * kTick), {});
+        EXPECT_EQ(cloth.failures(), 0) << cloth.firstFailure();
+        return std::pair{cloth.state(), cloth.contactTotal()};
+    };
+    const auto [one, r1] = run("1", nullptr);
+    EXPECT_GT(r1.near, 10000);
+    const auto [two, r2] = run("2", nullptr);
+    expectBitsOf(two, one);
+    EXPECT_EQ(r2.near, r1.near);
+    ThreadHost host(1);
+    const auto [hosted, r3] = run("2", &host);
+    expectBitsOf(hosted, one);
+    EXPECT_EQ(r3.near, r1.near);
 }

@@ -38,6 +38,7 @@
 #include "cloth/rigid_frame.h"
 #include "cloth/solver.h"
 #include "cloth/solver_config.h"
+#include "cloth/thread_pool.h"
 
 namespace cloth {
 
@@ -150,12 +151,12 @@ private:
     bool stepOnce(Scalar h, const std::vector<Collider>& colliders, const RigidFrame& from, const RigidFrame& to);
     void makeContact(const RigidFrame& from, const RigidFrame& to, Scalar h);
     std::pair<ClothObserver::Clock::time_point, ClothObserver::Clock::time_point> contactOver(
-        const RigidFrame& from, const RigidFrame& to, const Points& xStart, State& state, Scalar h);
+        const RigidFrame& from, const RigidFrame& to, const Points& xStart, State& state, Scalar h, ParallelFor* loops);
     // The contact stage at the solver's own substeps, the carrier between the step's two poses.
     struct SubstepHook final : SubstepContact {
         Cloth* cloth = nullptr;
         RigidFrame from, to;
-        void apply(Scalar f0, Scalar f1, const Points& xStart, State& state, Scalar h) override;
+        void apply(Scalar f0, Scalar f1, const Points& xStart, State& state, Scalar h, ParallelFor* loops) override;
         int stride() const override { return cloth->settings_.contact.substepStride; }
         Scalar strideMove() const override { return cloth->settings_.contact.strideMove; }
     };

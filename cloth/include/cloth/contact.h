@@ -43,7 +43,7 @@
 #include "cloth/collision.h"
 #include "cloth/model.h"
 #include "cloth/rigid_frame.h"
-#include "cloth/thread_pool.h"
+#include "cloth/parallel_for.h"
 
 namespace cloth {
 
@@ -110,10 +110,12 @@ public:
 
     // The step from `xStart` (world, the carrier at `from`) to `state` (the carrier at `to`):
     // `solids` are in the carrier's frame (capsules and boxes; their radius and half sizes the
-    // solid itself). `pinned[i] != 0`: a pinned particle. Changes state.x and state.v.
+    // solid itself). `pinned[i] != 0`: a pinned particle. Changes state.x and state.v. `loops`,
+    // if given, runs the broad phase's passes over the whole cloth (the frames, the boxes, the
+    // normal cones) on its threads: the same bits as without.
     ContactReport apply(const Model& model, const std::vector<std::uint8_t>& pinned, const Points& xStart,
                         State& state, const RigidFrame& from, const RigidFrame& to, const std::vector<Collider>& solids,
-                        const ContactSettings& settings, Scalar h);
+                        const ContactSettings& settings, Scalar h, ParallelFor* loops = nullptr);
 
 private:
     struct Work;

@@ -12,6 +12,7 @@
 
 #include "cloth/forces.h"
 #include "cloth/model.h"
+#include "cloth/parallel_for.h"
 
 namespace cloth {
 
@@ -33,10 +34,11 @@ struct Pin {
 // correction / h, as a position-based step's velocity is its last move over its length.
 // cloth::Cloth hands in its contact stage (contact.h) this way, so that a solver taking many
 // substeps per step meets contact at every one, or every few, as the reference does at every one.
+// `loops` (or null) runs the contact's parallel loops on the solver's threads, which wait for it.
 class SubstepContact {
 public:
     virtual ~SubstepContact() = default;
-    virtual void apply(Scalar from, Scalar to, const Points& xStart, State& state, Scalar h) = 0;
+    virtual void apply(Scalar from, Scalar to, const Points& xStart, State& state, Scalar h, ParallelFor* loops) = 0;
     // Contact after every this many substeps (and after the last), over the motion since the last.
     virtual int stride() const { return 1; }
     // > 0: and only once the fastest particle has also moved this far relative to the pole since

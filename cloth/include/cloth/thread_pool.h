@@ -18,21 +18,22 @@
 #include <thread>
 #include <vector>
 
+#include "cloth/parallel_for.h"
 #include "cloth/task_system.h"
 
 namespace cloth {
 
-class ThreadPool {
+class ThreadPool final : public ParallelFor {
 public:
     explicit ThreadPool(int threads);
-    ~ThreadPool();
+    ~ThreadPool() override;
     ThreadPool(const ThreadPool&) = delete;
     ThreadPool& operator=(const ThreadPool&) = delete;
 
-    int threads() const { return threads_; }
+    int threads() const override { return threads_; }
     // Calls fn(begin, end) for each chunk; the calling thread takes any chunk not yet claimed.
     // Returns when all are done.
-    void run(int n, const std::function<void(int, int)>& fn);
+    void run(int n, const std::function<void(int, int)>& fn) override;
     // The host's task system runs the helpers from now on (null: the pool's own threads, started
     // at the next region). Not during run(); the host must outlive its use here.
     void useHost(TaskSystem* host);

@@ -10,12 +10,6 @@ namespace cloth::contact {
 
 namespace {
 
-// A node (or two adjacent ones) whose normals lie within acos(kFlat) of one axis at every moment of
-// the step cannot fold onto itself: 85 degrees, a margin under Volino's 90 for rounding.
-constexpr Scalar kFlat = 0.087;
-// A bound on a merged cone's rounding above the narrower of its two cones' cosines (about 1e-16).
-constexpr Scalar kConeRounding = 1e-9;
-
 // The box holding two boxes: the same bits as adding both to an empty box.
 CLOTH_INLINE inline Box joined(const Box& a, const Box& b) {
     Box j;
@@ -61,7 +55,7 @@ void BroadPhase::prepare(const Model& model) {
         corners.resize(4, corners.back());  // a repeated corner changes no box
         std::copy(corners.begin(), corners.end(), cellCorners_[c].begin());
     }
-    cellStamp_.assign(cells, 0), stamp_ = 0;
+    cellStamp_ = std::vector<std::atomic<std::uint64_t>>(std::size_t(cells)), stamp_ = 0;
     edgeBox_.resize(edges_.size()), triangleBox_.resize(triangles_.size());
     row_.resize(model.particleCount()), col_.resize(model.particleCount());
     for (Index v = 0; v < model.particleCount(); ++v) {
@@ -98,22 +92,26 @@ int BroadPhase::build(int c0, int c1, int r0, int r1) {
     return n;
 }
 
-void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, Scalar margin) {
+void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, Scalar margin, ParallelFor* loops) {
     if (model.id() != model_) prepare(model);
     const Index n = model.particleCount();
     vertexBox_.resize(n);
-    for (Index i = 0; i < n; ++i) {
-        const Vec3 a = y0.col(i), b = y1.col(i);
-        Box& box = vertexBox_[i];
-        box.lo = a.cwiseMin(b).array() - margin / 2, box.hi = a.cwiseMax(b).array() + margin / 2;
-    }
+    forChunks(loops, int(n), [&](int begin, int end) {
+        for (Index i = begin; i < end; ++i) {
+            const Vec3 a = y0.col(i), b = y1.col(i);
+            Box& box = vertexBox_[i];
+            box.lo = a.cwiseMin(b).array() - margin / 2, box.hi = a.cwiseMax(b).array() + margin / 2;
+        }
+    });
     // A cell's box holds its triangles' corners; its edges' and triangles' own boxes are made
     // when a search first reaches the cell (fresh).
     cellBox_.resize(cellCorners_.size());
-    for (std::size_t c = 0; c < cellCorners_.size(); ++c) {
-        const auto& k = cellCorners_[c];
-        cellBox_[c] = joined(joined(vertexBox_[k[0]], vertexBox_[k[1]]), joined(vertexBox_[k[2]], vertexBox_[k[3]]));
-    }
+    forChunks(loops, int(cellCorners_.size()), [&](int begin, int end) {
+        for (int c = begin; c < end; ++c) {
+            const auto& k = cellCorners_[std::size_t(c)];
+            cellBox_[std::size_t(c)] = joined(joined(vertexBox_[k[0]], vertexBox_[k[1]]), joined(vertexBox_[k[2]], vertexBox_[k[3]]));
+        }
+    });
     ++stamp_;
     margin_ = margin;
     refitBoxes();
@@ -121,12 +119,15 @@ void BroadPhase::refit(const Model& model, const Points& y0, const Points& y1, S
 }
 
 void BroadPhase::widen(const Points& y0, const Points& y1, const std::vector<Scalar>& moves,
-                       const std::vector<std::uint8_t>& pushed) {
+                       const std::vector<std::uint8_t>& pushed, ParallelFor* loops) {
     const std::size_t n = moves.size();
     reach_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) reach_[i] = 0.5 * moves[i] + (pushed.empty() || !pushed[i] ? 0 : margin_ / 2);
-    motionCones(y0, y1, reach_, leafCorners_, coneScratch_, cones_);
-    leafCones();
+    forChunks(loops, int(n), [&](int begin, int end) {
+        for (int i = begin; i < end; ++i)
+            reach_[std::size_t(i)] = 0.5 * moves[std::size_t(i)] + (pushed.empty() || !pushed[std::size_t(i)] ? 0 : margin_ / 2);
+    });
+    motionCones(y0, y1, reach_, leafCorners_, coneScratch_, cones_, loops);
+    leafCones(loops);
     refitCones(0);
 }
 
@@ -155,19 +156,23 @@ void BroadPhase::refitBoxes() {
 
 // Each leaf's cone: its axis the normalized sum of its triangles' axes, its angle their widest
 // to it.
-void BroadPhase::leafCones() {
-    for (std::size_t j = 0; j < leaves_.size(); ++j) {
-        Vec3 sum = Vec3::Zero();
-        for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) sum += cones_.axis(k);
-        nodes_[std::size_t(leaves_[j])].axis = leafAxis_[j] = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
-    }
-    widestToAxes(cones_, leafStart_, leafAxis_, coneScratch_, widest_);
-    for (std::size_t j = 0; j < leaves_.size(); ++j) {
-        Scalar cosHalf = 1;
-        for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) cosHalf = std::min(cosHalf, widest_[k]);
-        Node& leaf = nodes_[std::size_t(leaves_[j])];
-        leaf.cosHalf = cosHalf, leaf.partner = partnerCos(cosHalf, kFlat);
-    }
+void BroadPhase::leafCones(ParallelFor* loops) {
+    forChunks(loops, int(leaves_.size()), [&](int begin, int end) {
+        for (std::size_t j = std::size_t(begin); j < std::size_t(end); ++j) {
+            Vec3 sum = Vec3::Zero();
+            for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) sum += cones_.axis(k);
+            nodes_[std::size_t(leaves_[j])].axis = leafAxis_[j] = sum.norm() > 1e-12 ? Vec3(sum.normalized()) : Vec3::UnitZ();
+        }
+    });
+    widestToAxes(cones_, leafStart_, leafAxis_, coneScratch_, widest_, loops);
+    forChunks(loops, int(leaves_.size()), [&](int begin, int end) {
+        for (std::size_t j = std::size_t(begin); j < std::size_t(end); ++j) {
+            Scalar cosHalf = 1;
+            for (std::size_t k = leafStart_[j]; k < leafStart_[j + 1]; ++k) cosHalf = std::min(cosHalf, widest_[k]);
+            Node& leaf = nodes_[std::size_t(leaves_[j])];
+            leaf.cosHalf = cosHalf, leaf.partner = partnerCos(cosHalf, kFlat);
+        }
+    });
 }
 
 // The nodes' cones above the leaves (leafCones).
@@ -189,16 +194,28 @@ void BroadPhase::refitCones(int n) {
 // The boxes of a leaf's edges and triangles in this refit.
 void BroadPhase::fresh(const Node& leaf) {
     for (int r = leaf.r0; r < leaf.r1; ++r)
-        for (int c = leaf.c0; c < leaf.c1; ++c) {
-            const int cell = r * (nx_ - 1) + c;
-            if (cellStamp_[cell] == stamp_) continue;
-            cellStamp_[cell] = stamp_;
-            for (Index e : cellEdges_[cell]) edgeBox_[e] = joined(vertexBox_[edges_[e][0]], vertexBox_[edges_[e][1]]);
-            for (Index t : cellTriangles_[cell]) {
-                const Triangle& tri = triangles_[t];
-                triangleBox_[t] = joined(joined(vertexBox_[tri[0]], vertexBox_[tri[1]]), vertexBox_[tri[2]]);
-            }
+        for (int c = leaf.c0; c < leaf.c1; ++c) freshCell(r * (nx_ - 1) + c);
+}
+
+// The boxes of a cell's edges and triangles in this refit, unless made (each cell owns its edges
+// and triangles). Searches on several threads may reach a cell at once: the first to claim it
+// (its stamp 2 refits - 1) makes them, the others wait until it is done (2 refits).
+void BroadPhase::freshCell(int cell) {
+    std::atomic<std::uint64_t>& stamp = cellStamp_[std::size_t(cell)];
+    const std::uint64_t made = 2 * stamp_, making = made - 1;
+    std::uint64_t seen = stamp.load(std::memory_order_acquire);
+    if (seen == made) return;
+    if (seen != making && stamp.compare_exchange_strong(seen, making, std::memory_order_acq_rel)) {
+        for (Index e : cellEdges_[std::size_t(cell)]) edgeBox_[e] = joined(vertexBox_[edges_[e][0]], vertexBox_[edges_[e][1]]);
+        for (Index t : cellTriangles_[std::size_t(cell)]) {
+            const Triangle& tri = triangles_[t];
+            triangleBox_[t] = joined(joined(vertexBox_[tri[0]], vertexBox_[tri[1]]), vertexBox_[tri[2]]);
         }
+        stamp.store(made, std::memory_order_release);
+        return;
+    }
+    while (stamp.load(std::memory_order_acquire) != made) {
+    }
 }
 
 bool BroadPhase::far(Index u, Index v) const {
@@ -213,108 +230,6 @@ bool BroadPhase::farTriangle(Index v, Index t) const {
 bool BroadPhase::farEdges(Index e, Index f) const {
     const auto &a = edges_[e], &b = edges_[f];
     return far(a[0], b[0]) && far(a[0], b[1]) && far(a[1], b[0]) && far(a[1], b[1]);
-}
-
-std::size_t BroadPhase::selfPairs(std::vector<Pair>& out, std::size_t most, const Keep& keep) {
-    out.clear();
-    Search search{out, most, keep};
-    if (!nodes_.empty()) self(0, search);
-    return search.found;
-}
-
-void BroadPhase::self(int n, Search& search) {
-    const Node& node = nodes_[n];
-    if (node.cosHalf > kFlat || node.leaf()) return;  // flat; a leaf's pairs are all within the springs' reach
-    for (int i = 0; i < 4 && node.child[i] >= 0; ++i) {
-        self(node.child[i], search);
-        for (int j = i + 1; j < 4 && node.child[j] >= 0; ++j) cross(node.child[i], node.child[j], search);
-    }
-}
-
-void BroadPhase::cross(int a, int b, Search& search) {
-    const Node &A = nodes_[a], &B = nodes_[b];
-    if (search.found > search.most || !A.box.overlaps(B.box)) return;
-    const int span = std::max(std::max(A.c1, B.c1) - std::min(A.c0, B.c0), std::max(A.r1, B.r1) - std::min(A.r0, B.r0));
-    if (span <= kExcludedCells) return;  // every pair within the springs' reach
-    const bool adjacent = A.c0 <= B.c1 && B.c0 <= A.c1 && A.r0 <= B.r1 && B.r0 <= A.r1;
-    // Two adjacent nodes whose joint cone is flat are one flat patch. The joint cone is no
-    // narrower than either node's (up to rounding, far under kConeRounding): when one is not
-    // flat, neither is it, and it is not computed.
-    if (adjacent && std::min(A.cosHalf, B.cosHalf) > kFlat - kConeRounding &&
-        mergedWithin(A.axis, A.cosHalf, A.partner, B.axis, B.cosHalf, B.partner, kFlat))
-        return;
-    if (A.leaf() && B.leaf()) return leaves(a, b, search);
-    const bool splitA = !A.leaf() && (B.leaf() || (A.c1 - A.c0) * (A.r1 - A.r0) >= (B.c1 - B.c0) * (B.r1 - B.r0));
-    const Node& big = splitA ? A : B;
-    for (int c : big.child)
-        if (c >= 0) cross(splitA ? c : a, splitA ? b : c, search);
-}
-
-// Two leaves' kept pairs: searched and kept at their first meeting since the refit (the boxes
-// and so the candidates are the same until the next), reused after. Leaves none of whose cells
-// meet have none, which is found again faster than it is looked up.
-void BroadPhase::leaves(int a, int b, Search& search) {
-    Meet meet;
-    if (!cellsMeet(a, b, meet)) return;
-    const auto [at, first] = searched_.try_emplace((std::uint64_t(a) << 32) | std::uint32_t(b));
-    Searched& s = at->second;
-    if (first) {
-        candidates_.clear();
-        fresh(nodes_[a]), fresh(nodes_[b]);
-        leafPairs(nodes_[a], nodes_[b], meet, candidates_);
-        s.begin = keptPairs_.size(), s.found = candidates_.size();
-        for (Pair& p : candidates_)
-            if (search.keep(p)) keptPairs_.push_back(p);
-        s.end = keptPairs_.size();
-    }
-    search.found += s.found;
-    search.out.insert(search.out.end(), keptPairs_.begin() + std::ptrdiff_t(s.begin), keptPairs_.begin() + std::ptrdiff_t(s.end));
-}
-
-// The candidates of two leaves whose cells meet (cellsMeet), after fresh.
-void BroadPhase::leafPairs(const Node& A, const Node& B, const Meet& meet, std::vector<Pair>& out) const {
-    // A primitive whose box misses the other node's box meets none of its primitives (their boxes
-    // lie in it): flagged once per node pair and skipped, which keeps the pairs and their order.
-    using Flags = std::array<std::array<bool, 8>, 4>;  // a leaf: at most 2 x 2 cells
-    auto flag = [&](const Node& n, const std::vector<std::vector<Index>>& lists, const std::vector<Box>& boxes,
-                    const Box& other) {
-        Flags f{};
-        eachCell(n, [&](const Cell& cell) {
-            const auto& list = lists[cell.index];
-            for (std::size_t i = 0; i < list.size() && i < 8; ++i) f[cell.k][i] = boxes[list[i]].overlaps(other);
-        });
-        return f;
-    };
-    auto vertexTriangles = [&](const Node& V, const Node& T, bool swapped) {
-        const Flags in = flag(V, cellVertices_, vertexBox_, T.box);
-        eachCell(V, [&](const Cell& cv) {
-            eachCell(T, [&](const Cell& ct) {
-                if (!(swapped ? meet[ct.k][cv.k] : meet[cv.k][ct.k])) return;
-                const auto& vertices = cellVertices_[cv.index];
-                for (std::size_t i = 0; i < vertices.size(); ++i) {
-                    const Index v = vertices[i];
-                    if (i < 8 && !in[cv.k][i]) continue;
-                    for (Index t : cellTriangles_[ct.index])
-                        if (vertexBox_[v].overlaps(triangleBox_[t]) && farTriangle(v, t))
-                            out.push_back({Pair::Kind::VertexTriangle, v, t});
-                }
-            });
-        });
-    };
-    vertexTriangles(A, B, false), vertexTriangles(B, A, true);
-    const Flags inB = flag(A, cellEdges_, edgeBox_, B.box);
-    eachCell(A, [&](const Cell& ca) {
-        eachCell(B, [&](const Cell& cb) {
-            if (!meet[ca.k][cb.k]) return;
-            const auto& edges = cellEdges_[ca.index];
-            for (std::size_t i = 0; i < edges.size(); ++i) {
-                const Index e = edges[i];
-                if (i < 8 && !inB[ca.k][i]) continue;
-                for (Index f : cellEdges_[cb.index])
-                    if (edgeBox_[e].overlaps(edgeBox_[f]) && farEdges(e, f)) out.push_back({Pair::Kind::EdgeEdge, e, f});
-            }
-        });
-    });
 }
 
 void BroadPhase::near(const Box& box, const std::vector<std::uint8_t>& pinned, std::vector<Index>& vertices,

@@ -14,18 +14,25 @@
 // Each vertex and each mesh edge belongs to one cell, so that no pair is listed twice.
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <unordered_map>
 #include <vector>
 
 #include "cloth/model.h"
+#include "cloth/parallel_for.h"
 #include "contact/cones.h"
 
 namespace cloth::contact {
 
 // Pairs of the grid within this many cells of each other are left to the cloth's springs.
 constexpr int kExcludedCells = 2;
+// A node (or two adjacent ones) whose normals lie within acos(kFlat) of one axis at every moment of
+// the step cannot fold onto itself: 85 degrees, a margin under Volino's 90 for rounding.
+constexpr Scalar kFlat = 0.087;
+// A bound on a merged cone's rounding above the narrower of its two cones' cosines (about 1e-16).
+constexpr Scalar kConeRounding = 1e-9;
 
 struct Box {
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
@@ -54,17 +61,21 @@ class BroadPhase {
 public:
     // The grid's quadtree, its mesh edges and each primitive's cell; redone when the model changes.
     void prepare(const Model& model);
-    // The swept boxes of the step from y0 to y1 (carrier frame), grown by margin.
-    void refit(const Model& model, const Points& y0, const Points& y1, Scalar margin);
+    // The swept boxes of the step from y0 to y1 (carrier frame), grown by margin; each cell's edges'
+    // and triangles' boxes are made when a search first reaches it.
+    void refit(const Model& model, const Points& y0, const Points& y1, Scalar margin, ParallelFor* loops = nullptr);
     // The normal cones of the step's motion (after refit, before selfPairs): each particle on its
     // straight move (moves[i] its length, |y1_i - y0_i|), or anywhere within margin / 2 of it where
     // `pushed` flags it (the contact stage's pushes).
-    void widen(const Points& y0, const Points& y1, const std::vector<Scalar>& moves, const std::vector<std::uint8_t>& pushed);
+    void widen(const Points& y0, const Points& y1, const std::vector<Scalar>& moves, const std::vector<std::uint8_t>& pushed,
+               ParallelFor* loops = nullptr);
     // The self pairs that may touch during the step and that `keep` keeps, in the order of the
     // tree's search. Returns the candidates found: past `most` the search stops. Within one refit,
     // each two leaves are searched and their candidates kept once: a later call (wider cones after
-    // another widen, which open more nodes) reuses them, so it costs only the tree's walk.
-    std::size_t selfPairs(std::vector<Pair>& out, std::size_t most, const Keep& keep);
+    // another widen, which open more nodes) reuses them, so it costs only the tree's walk. The
+    // tree's walk lists the two leaves to search; `loops` searches them on its threads (`keep`
+    // must allow that), the same pairs in the same order (broad_phase_search.cpp).
+    std::size_t selfPairs(std::vector<Pair>& out, std::size_t most, const Keep& keep, ParallelFor* loops = nullptr);
     // The free vertices and mesh edges whose swept boxes reach `box`.
     void near(const Box& box, const std::vector<std::uint8_t>& pinned, std::vector<Index>& vertices,
               std::vector<Index>& edges);
@@ -87,17 +98,40 @@ private:
     void eachTriangle(const Node& node, F fn) const;
     void refitBoxes();
     void fresh(const Node& leaf);
-    void leafCones();
+    void freshCell(int cell);
+    void leafCones(ParallelFor* loops);
     void refitCones(int n);
-    struct Search {  // one selfPairs call
-        std::vector<Pair>& out;
-        std::size_t most;
-        const Keep& keep;
-        std::size_t found = 0;  // candidates, kept or not
+    // Two leaves the tree's walk reaches, and what their search found: `found` candidates, and
+    // the kept ones in [begin, end) of keptPairs_ (cached) or of their stripe's pairs.
+    struct Visit {
+        int a = 0, b = 0;
+        std::size_t found = 0, begin = 0, end = 0;
+        bool met = false, cached = false;
     };
-    void self(int n, Search& search);
-    void cross(int a, int b, Search& search);
-    void leaves(int a, int b, Search& search);
+    // A part of the walk (broad_phase_search.cpp): node a's own pairs (b < 0) or a's with b's; its
+    // visits are [begin, end) of its stripe's.
+    struct Task {
+        int a = 0, b = -1;
+        int stripe = 0;
+        std::size_t begin = 0, end = 0;
+    };
+    struct alignas(64) Stripe {  // one thread's share of the tasks (a cache line of its own)
+        std::vector<Visit> visits;
+        std::vector<Pair> pairs, candidates;  // its kept pairs; one visit's candidates
+        std::size_t found = 0, most = 0;
+        const Keep* keep = nullptr;
+    };
+    int cellsOf(int n) const;
+    bool skipSelf(int n) const;
+    bool skipCross(int a, int b) const;
+    bool splitsFirst(int a, int b) const;
+    void planSelf(int n);
+    void planCross(int a, int b);
+    void runStripe(int s, int stripes, std::size_t most, const Keep& keep);
+    void walkSelf(int n, Stripe& stripe);
+    void walkCross(int a, int b, Stripe& stripe);
+    void search(Visit& v, Stripe& stripe);
+    std::size_t gatherTasks(std::vector<Pair>& out, std::size_t most);
     struct Cell {
         int index, k, r, c;  // the cell, its place in its leaf, its row and column
     };
@@ -130,7 +164,7 @@ private:
     // (apartPairs). Leaves further apart hold one in any two cells.
     std::vector<std::array<int, 4>> leafCells_;
     std::vector<std::vector<std::pair<int, std::uint16_t>>> nearLeaves_;
-    std::vector<std::uint64_t> cellStamp_;         // per cell: the refit its edges' and triangles' boxes are of
+    std::vector<std::atomic<std::uint64_t>> cellStamp_;  // per cell: 2 x the refit its edges' and triangles' boxes are of (freshCell)
     std::uint64_t stamp_ = 0;                      // refits since prepare
     Scalar margin_ = 0;
     std::vector<Scalar> reach_;      // each particle's distance from its move's midpoint, at most
@@ -147,7 +181,10 @@ private:
         std::size_t begin = 0, end = 0, found = 0;
     };
     std::unordered_map<std::uint64_t, Searched> searched_;
-    std::vector<Pair> keptPairs_, candidates_;
+    std::vector<Pair> keptPairs_;
+    std::vector<Task> tasks_;      // this search's, in the walk's order
+    int taskCells_ = 0;            // a task's nodes hold at most this many cells each
+    std::vector<Stripe> stripes_;
 };
 
 // A leaf's cells in order: each with its index, its place in the leaf, its row and column.

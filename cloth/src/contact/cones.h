@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cloth/model.h"
+#include "cloth/parallel_for.h"
 #include "simd.h"
 
 namespace cloth::contact {
@@ -39,7 +40,7 @@ struct ConeScratch {
 // e = da |b| + |a| db + da db, so it stays within asin(e / |a x b|) of the midpoint's normal. A
 // triangle that could flip (e >= |a x b|) holds every direction (axis +z, cosHalf -1).
 void motionCones(const Points& y0, const Points& y1, const std::vector<Scalar>& reach, const Corners& triangles,
-                 ConeScratch& scratch, Cones& out);
+                 ConeScratch& scratch, Cones& out, ParallelFor* loops = nullptr);
 
 // The cosine of the widest angle to an axis of a cone whose axis has the cosine `dot` to it and
 // whose half-angle has the cosine `cc`: cos(t + w) = cos t cos w - sin t sin w, with no inverse
@@ -78,6 +79,6 @@ bool mergedWithin(const Vec3& a, Scalar ca, Scalar pa, const Vec3& b, Scalar cb,
 // The cones in groups: group j is cones [start[j], start[j + 1]), with the axis axes[j]. For cone
 // k, the cosine of its widest angle to its group's axis (widestCos), written to widest[k].
 void widestToAxes(const Cones& cones, const std::vector<std::size_t>& start, const std::vector<Vec3>& axes,
-                  ConeScratch& scratch, std::vector<Scalar>& widest);
+                  ConeScratch& scratch, std::vector<Scalar>& widest, ParallelFor* loops = nullptr);
 
 }  // namespace cloth::contact

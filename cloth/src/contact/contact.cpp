@@ -16,6 +16,13 @@ using namespace contact;
 
 namespace {
 
+// The application's loops run on several threads only for a cloth of at least this many particles.
+// A pass over a 33x33 flag (1,089 particles) is a few microseconds, less than sharing it with
+// another core costs: the true motion with contact on two threads took longer with its contact on
+// both; at 65x65 (4,225) its broad phase took 0.6-0.85 times as long (docs/performance.md, Contact
+// on two threads).
+constexpr Index kParallelParticles = 2048;
+
 // A solid's box, grown by margin.
 Box boxOf(const Collider& c, Scalar margin) {
     Box b;
@@ -106,10 +113,12 @@ void ContactStage::Work::toCarrier(const Points& xStart, const State& state, con
     const Eigen::Matrix3d r0 = from.rotation.toRotationMatrix().transpose(), r1 = to.rotation.toRotationMatrix().transpose();
     const Index n = xStart.cols();
     y0.resize(3, n), y1.resize(3, n);
-    for (Index i = 0; i < n; ++i) {
-        y0.col(i) = r0 * Vec3(xStart.col(i) - from.position);
-        y1.col(i) = r1 * Vec3(state.x.col(i) - to.position);
-    }
+    forChunks(loops, int(n), [&](int begin, int end) {
+        for (Index i = begin; i < end; ++i) {
+            y0.col(i) = r0 * Vec3(xStart.col(i) - from.position);
+            y1.col(i) = r1 * Vec3(state.x.col(i) - to.position);
+        }
+    });
 }
 
 // The pass from y0 to y1: the self pairs and the solids' primitives that can come within reach
@@ -117,8 +126,8 @@ void ContactStage::Work::toCarrier(const Points& xStart, const State& state, con
 void ContactStage::Work::gather(contact::BroadPhase& broad, const std::vector<std::uint8_t>& pinned,
                                 const std::vector<Collider>& solids, const ContactSettings& settings, ContactReport& report) {
     const Index n = model->particleCount();
-    contact::moveLengths(y0, y1, reachOf);
-    broad.refit(*model, y0, y1, 2 * settings.thickness);
+    contact::moveLengths(y0, y1, reachOf, loops);
+    broad.refit(*model, y0, y1, 2 * settings.thickness, loops);
     edges = &broad.edges(), thickness = settings.thickness;
     halfSpaces = settings.selfBounds == ContactSettings::SelfBounds::HalfSpaces;
     near.clear();
@@ -146,8 +155,8 @@ bool ContactStage::Work::selfPairs(contact::BroadPhase& broad, const std::vector
     const std::size_t most = kMaxPairsPerParticle * std::size_t(model->particleCount());
     const contact::Keep keep = [this](Pair& p) { return mayMeet(p); };
     for (;;) {
-        broad.widen(y0, y1, reachOf, pushed);
-        if (const std::size_t found = broad.selfPairs(pairs, most, keep); found > most) {
+        broad.widen(y0, y1, reachOf, pushed, loops);
+        if (const std::size_t found = broad.selfPairs(pairs, most, keep, loops); found > most) {
             pairs.clear(), candidates = found;
             return false;
         }
@@ -276,11 +285,12 @@ bool ContactStage::Work::advance(Scalar f, const std::vector<std::uint8_t>& pinn
 
 ContactReport ContactStage::apply(const Model& model, const std::vector<std::uint8_t>& pinned, const Points& xStart,
                                   State& state, const RigidFrame& from, const RigidFrame& to,
-                                  const std::vector<Collider>& solids, const ContactSettings& settings, Scalar h) {
+                                  const std::vector<Collider>& solids, const ContactSettings& settings, Scalar h,
+                                  ParallelFor* loops) {
     ContactReport report;
     report.applications = 1;
     Work& w = *work_;
-    w.model = &model;
+    w.model = &model, w.loops = model.particleCount() >= kParallelParticles ? loops : nullptr;
     w.toCarrier(xStart, state, from, to);
     w.y = w.y0;
     w.moved.assign(model.particleCount(), 0);

@@ -92,9 +92,11 @@ CLOTH_IVDEP
 
 }  // namespace
 
-void moveLengths(const Points& y0, const Points& y1, std::vector<Scalar>& out) {
+void moveLengths(const Points& y0, const Points& y1, std::vector<Scalar>& out, ParallelFor* loops) {
     out.resize(std::size_t(y0.cols()));
-    lengthLoop(y0.data(), y1.data(), y0.cols(), out.data());
+    forChunks(loops, int(y0.cols()), [&](int begin, int end) {
+        lengthLoop(y0.data() + 3 * begin, y1.data() + 3 * begin, end - begin, out.data() + begin);
+    });
 }
 
 }  // namespace cloth::contact

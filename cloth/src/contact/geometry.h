@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "cloth/parallel_for.h"
 #include "cloth/types.h"
 
 namespace cloth::contact {
@@ -35,6 +36,6 @@ Scalar pointBoxDistance(const Vec3& p, const Vec3& center, const Mat3& R, const 
 
 // Each particle's straight move's length, |y1_i - y0_i| (the squares summed x, y, z, as Eigen's
 // norm does: the same bits), in a loop the compiler vectorizes.
-void moveLengths(const Points& y0, const Points& y1, std::vector<Scalar>& out);
+void moveLengths(const Points& y0, const Points& y1, std::vector<Scalar>& out, ParallelFor* loops = nullptr);
 
 }  // namespace cloth::contact

@@ -70,6 +70,7 @@ struct ContactStage::Work {
     std::vector<Scalar> need, len;          // each particle's move to its target, before and with its pushes
     std::vector<contact::Near> near;
     const Model* model = nullptr;
+    ParallelFor* loops = nullptr;  // the application's passes over the whole cloth run on it (or null)
     const std::vector<std::array<Index, 2>>* edges = nullptr;
     Scalar thickness = 0;
     bool halfSpaces = false;                 // self pairs bound by half-spaces (ContactSettings::selfBounds)

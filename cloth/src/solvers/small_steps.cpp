@@ -25,6 +25,7 @@
 #include "cloth/solver_kind.h"
 #include "small_steps/collisions.h"
 #include "small_steps/constraint_check.h"
+#include "small_steps/crew.h"
 #include "small_steps/kernels.h"
 #include "small_steps/lag_guard.h"
 #include "small_steps/spin_barrier.h"
@@ -91,6 +92,7 @@ private:
         for (int t = 0; t <= threads; ++t) ranges_.push_back(int((long long)cloth_.n * t / threads) / 8 * 8);
         ranges_.back() = cloth_.n;
         barrier_ = std::make_unique<SpinBarrier>(threads);
+        crew_ = std::make_unique<Crew>(threads);
         return true;
     }
 
@@ -98,13 +100,13 @@ private:
     void loadPins(const StepInput& input);
     int substepsOf(const Model& model, const State& state, const StepInput& input) const;
     void runSubsteps();
-    void worker(int index, int begin, int end, bool together);
+    void worker(int index, int begin, int end, bool together, std::uint32_t sessions);
     void meet(int index);
     bool meetAtEnd(int index);
     float fastestRelative(int begin, int end) const;
     bool contactDue(int sub, bool together, Scalar& since, int& last) const;
     void constrain();
-    void contactAfter(int sub);
+    void contactAfter(int sub, std::uint32_t session);
     void setState(const State& state);
     void worldPositions(Points& out) const;
     void worldState(State& out) const;
@@ -122,6 +124,8 @@ private:
     Scalar springFrequency_ = 0;
     std::vector<int> ranges_;  // thread t takes particles [ranges_[t], ranges_[t + 1])
     std::unique_ptr<SpinBarrier> barrier_;
+    std::unique_ptr<Crew> crew_;     // the threads as the contact's loops' runner
+    std::uint32_t crewSessions_ = 0;  // contacts the threads have run together so far
     StartGate gate_;  // the step's threads all begun, or thread 0 alone
     LagGuard lag_;  // one thread for a while when a busy core keeps the other waiting
     Clock::time_point stepStart_;    // when the parallel step under way began
@@ -215,14 +219,15 @@ void SmallStepsSolver::loadPins(const StepInput& input) {
 
 void SmallStepsSolver::runSubsteps() {
     const int threads = pool_->threads();
-    if (threads == 1 || lag_.solo()) return worker(0, 0, cloth_.n, false);
+    const std::uint32_t sessions = crewSessions_;
+    if (threads == 1 || lag_.solo()) return worker(0, 0, cloth_.n, false, sessions);
     stepStart_ = Clock::now();
     parting_.store(false, std::memory_order_relaxed);
     gate_.open(threads);
-    pool_->run(2 * threads, [this](int begin, int) {
+    pool_->run(2 * threads, [this, sessions](int begin, int) {
         const int t = begin / 2;
         if (t != 0) {
-            if (gate_.join(t)) worker(t, ranges_[std::size_t(t)], ranges_[std::size_t(t) + 1], true);
+            if (gate_.join(t)) worker(t, ranges_[std::size_t(t)], ranges_[std::size_t(t) + 1], true, sessions);
             return;
         }
         // A thread that has not begun by kMinLag (asleep, off its core, or a host's task not yet
@@ -230,8 +235,8 @@ void SmallStepsSolver::runSubsteps() {
         const auto t0 = Clock::now();
         const bool together = gate_.lead(LagGuard::kMinLag);
         lag_.waited(Clock::now() - t0);
-        if (together) worker(0, ranges_[0], ranges_[1], true);
-        else worker(0, 0, cloth_.n, false);
+        if (together) worker(0, ranges_[0], ranges_[1], true, sessions);
+        else worker(0, 0, cloth_.n, false, sessions);
     });
     lag_.stepEnded(Clock::now() - stepStart_);
 }
@@ -257,8 +262,10 @@ bool SmallStepsSolver::meetAtEnd(int index) {
 // Thread `index`'s share of every substep (particles [begin, end)): the springs and the air at its
 // slots, then, once every thread's are done, its particles' integration; with constraints, its
 // slots' test against their bounds and, once every thread's is done, the constraints (on thread
-// 0); then its particles' collisions. Alone (together false) it takes every particle.
-void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
+// 0); then its particles' collisions. Alone (together false) it takes every particle. Contact
+// runs on thread 0, the others serving its loops (Crew): `sessions` is the crew's count of contacts
+// before this step.
+void SmallStepsSolver::worker(int index, int begin, int end, bool together, std::uint32_t sessions) {
     Scalar since = 0;  // the fastest particle's move relative to the pole since the last contact
     int last = 0;      // the substep the last contact followed
     for (int sub = 1; sub <= plan_.substeps; ++sub) {
@@ -288,10 +295,13 @@ void SmallStepsSolver::worker(int index, int begin, int end, bool together) {
             together = false, begin = 0, end = cloth_.n;
         }
         if (contact_ && contactDue(sub, together, since, last)) {  // after every thread's collisions, on thread 0
-            if (index == 0) contactAfter(sub);
+            if (together) ++sessions;
+            if (index == 0) contactAfter(sub, together ? sessions : 0);
+            else crew_->serve(sessions);
             if (together) meet(index);
         }
     }
+    if (index == 0) crewSessions_ = sessions;
 }
 
 // The largest squared speed of particles [begin, end) relative to the pole.
@@ -348,10 +358,20 @@ void SmallStepsSolver::worldState(State& out) const {
 // The caller's contact over the substeps since the last contact to `sub`, in double in the world,
 // and back (the next substep starts where it left the positions, rounded to float). Its
 // corrections change the velocities by correction / the last substep's length (SubstepContact).
-void SmallStepsSolver::contactAfter(int sub) {
+// With a crew session (not 0) the other threads serve its loops until it closes; its late waits
+// count as the lag guard's.
+void SmallStepsSolver::contactAfter(int sub, std::uint32_t session) {
     worldState(contactEnd_);
     const Scalar n = plan_.substeps;
-    contact_->apply(Scalar(contactFrom_) / n, Scalar(sub) / n, contactStart_, contactEnd_, plan_.h);
+    struct Session {  // closed however apply ends, so that no serving thread waits on
+        Crew* crew;
+        ~Session() {
+            if (crew) crew->close();
+        }
+    } served{session ? crew_.get() : nullptr};
+    if (served.crew) served.crew->open(session);
+    contact_->apply(Scalar(contactFrom_) / n, Scalar(sub) / n, contactStart_, contactEnd_, plan_.h, served.crew);
+    if (served.crew) lag_.waited(served.crew->late());
     contactFrom_ = sub;
     setState(contactEnd_);
     worldPositions(contactStart_);

@@ -3,7 +3,8 @@
 // normal can flip, so no patch of the tree is flat and nothing may be skipped for its normals:
 // the self pairs must then be exactly the vertex-triangle and edge-edge pairs more than
 // kExcludedCells apart in the grid whose swept boxes overlap, each listed once. The boxes here are
-// made from the positions alone, and "apart" from the grid's rows and columns.
+// made from the positions alone, and "apart" from the grid's rows and columns. The search on two
+// threads gives one thread's pairs, in its order.
 
 #include <gtest/gtest.h>
 
@@ -16,6 +17,7 @@
 #include <tuple>
 #include <vector>
 
+#include "cloth/thread_pool.h"
 #include "contact/broad_phase.h"
 
 using namespace cloth;
@@ -137,6 +139,54 @@ TEST(BroadPhase, ACrumpledClothsSelfPairsAreEveryFarPairWhoseBoxesMeet) {
             EXPECT_TRUE(missing.empty()) << missing.size() << " pairs missed, the first of kind " << std::get<0>(missing.front())
                                          << ": " << std::get<1>(missing.front()) << ", " << std::get<2>(missing.front());
             EXPECT_TRUE(extra.empty()) << extra.size() << " pairs listed that the search over every pair does not";
+        }
+    }
+}
+
+// The search in stripes on two threads (contact/broad_phase_search.cpp) against one thread's: the
+// same pairs in the same order, kept by a Keep that drops some, on a first search and on a second
+// after another widen (the two leaves' kept pairs then come from the first); and with `most` under
+// the candidates, the same count at which the search stops.
+TEST(BroadPhase, OnTwoThreadsTheSelfPairsAndWhereTheSearchStopsAreOneThreads) {
+    const Scalar margin = 0.01;
+    const contact::Keep keep = [](Pair& p) {
+        p.gap = Scalar(p.a) + 1e-3 * Scalar(p.b);
+        return (p.a + p.b) % 3 != 0;
+    };
+    auto search = [&](const Crumpled& c, ParallelFor* loops, std::size_t most, std::vector<Pair>& second) {
+        std::vector<Scalar> moves(std::size_t(c.model.particleCount()));
+        for (Index i = 0; i < c.model.particleCount(); ++i) moves[std::size_t(i)] = (c.y1.col(i) - c.y0.col(i)).norm();
+        BroadPhase broad;
+        broad.refit(c.model, c.y0, c.y1, margin, loops);
+        broad.widen(c.y0, c.y1, moves, {}, loops);
+        std::vector<Pair> first;
+        const std::size_t found = broad.selfPairs(first, most, keep, loops);
+        broad.widen(c.y0, c.y1, moves, std::vector<std::uint8_t>(moves.size(), 1), loops);
+        broad.selfPairs(second, most, keep, loops);
+        second.insert(second.begin(), first.begin(), first.end());
+        return found;
+    };
+    auto same = [](const std::vector<Pair>& a, const std::vector<Pair>& b) {
+        if (a.size() != b.size()) return false;
+        for (std::size_t k = 0; k < a.size(); ++k)
+            if (a[k].kind != b[k].kind || a[k].a != b[k].a || a[k].b != b[k].b || a[k].gap != b[k].gap) return false;
+        return true;
+    };
+    ThreadPool two(2);
+    for (const unsigned seed : {1u, 2u}) {
+        SCOPED_TRACE("seed " + std::to_string(seed));
+        const Crumpled c = crumpled(33, 4.0, 0.02, seed == 1 ? 0.3 : 0.25, seed);
+        std::vector<Pair> one, both;
+        const std::size_t all = search(c, nullptr, std::size_t(1) << 40, one);
+        ASSERT_GT(one.size(), 1000u);
+        EXPECT_EQ(search(c, &two, std::size_t(1) << 40, both), all);
+        EXPECT_TRUE(same(one, both));
+        for (const std::size_t most : {all / 2, all / 5, std::size_t(10)}) {
+            std::vector<Pair> a, b;
+            const std::size_t stopped = search(c, nullptr, most, a);
+            EXPECT_GT(stopped, most);
+            EXPECT_LE(stopped, all);
+            EXPECT_EQ(search(c, &two, most, b), stopped) << "most " << most;
         }
     }
 }
