@@ -11,7 +11,8 @@
 // more than max_move metres in a substep: as the reference paces its substeps through a teleport,
 // and after it while the flag still flies. The flag's constraints (tethers, the stretch limit) run
 // after every substep, as they do after each of the reference's, and so does the caller's contact
-// (StepInput::contact) when it hands one in.
+// (StepInput::contact) when it hands one in, on thread 0 with the others serving its loops
+// (small_steps/crew.h).
 // Grids only (Model::fromGrid's layout); on another mesh every step fails and details() says why.
 
 #include <algorithm>
