@@ -110,12 +110,11 @@ Cloth hostFlag(const std::string& solver, int side = 17) {
 constexpr int kHostTicks = 40;
 constexpr double kTick = 1.0 / 240;
 
-// The flag after `ticks`, its host (if any) drained after every tick by `afterTick`.
-State runFlag(const std::string& solver, TaskSystem* host, const std::function<void()>& afterTick = {}, int side = 17,
-              int ticks = kHostTicks) {
-    Cloth cloth = hostFlag(solver, side);
+// The flag after kHostTicks, its host (if any) drained after every tick by `afterTick`.
+State runFlag(const std::string& solver, TaskSystem* host, const std::function<void()>& afterTick = {}) {
+    Cloth cloth = hostFlag(solver);
     cloth.setTaskSystem(host);
-    for (int k = 1; k <= ticks; ++k) {
+    for (int k = 1; k <= kHostTicks; ++k) {
         cloth.step(kTick, turningCarrier(k * kTick), {});
         if (afterTick) afterTick();
     }

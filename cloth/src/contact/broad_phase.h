@@ -125,11 +125,14 @@ private:
     bool skipSelf(int n) const;
     bool skipCross(int a, int b) const;
     bool splitsFirst(int a, int b) const;
-    void planSelf(int n);
-    void planCross(int a, int b);
+    struct Planner;
+    struct Walker;
+    template <class To>
+    void walkSelf(int n, To& to);
+    template <class To>
+    void walkCross(int a, int b, To& to);
+    void plan();
     void runStripe(int s, int stripes, std::size_t most, const Keep& keep);
-    void walkSelf(int n, Stripe& stripe);
-    void walkCross(int a, int b, Stripe& stripe);
     void search(Visit& v, Stripe& stripe);
     std::size_t gatherTasks(std::vector<Pair>& out, std::size_t most);
     struct Cell {

@@ -23,9 +23,8 @@ constexpr int kTaskShare = 32;
 }  // namespace
 
 std::size_t BroadPhase::selfPairs(std::vector<Pair>& out, std::size_t most, const Keep& keep, ParallelFor* loops) {
-    out.clear(), tasks_.clear();
-    taskCells_ = std::max(4, (nx_ - 1) * (ny_ - 1) / kTaskShare);
-    if (!nodes_.empty()) planSelf(0);
+    out.clear();
+    plan();
     const int stripes = parallel(loops) ? 2 * loops->threads() : 1;
     if (int(stripes_.size()) < stripes) stripes_.resize(std::size_t(stripes));
     forChunks(loops, stripes, [&](int begin, int end) {
@@ -64,59 +63,72 @@ bool BroadPhase::splitsFirst(int a, int b) const {
     return !A.leaf() && (B.leaf() || cellsOf(a) >= cellsOf(b));
 }
 
-// The walk's top, in its order: a node no larger than taskCells_ is a task.
-void BroadPhase::planSelf(int n) {
+// The tree's walk, in its order, from node n's own pairs (walkSelf) or from nodes a and b's
+// (walkCross), down to the nodes `to` cuts at, which it hands on: to.at(n, -1) or to.at(a, b).
+// Planning cuts at taskCells_ and makes tasks; a stripe cuts at the leaves and searches them,
+// until to.stopped(). One walk for both keeps the tasks' order the whole walk's.
+template <class To>
+void BroadPhase::walkSelf(int n, To& to) {
     if (skipSelf(n)) return;
-    if (cellsOf(n) <= taskCells_) return tasks_.push_back({n, -1});
+    if (to.cuts(n)) return to.at(n, -1);
     const Node& node = nodes_[std::size_t(n)];
     for (int i = 0; i < 4 && node.child[i] >= 0; ++i) {
-        planSelf(node.child[i]);
-        for (int j = i + 1; j < 4 && node.child[j] >= 0; ++j) planCross(node.child[i], node.child[j]);
+        walkSelf(node.child[i], to);
+        for (int j = i + 1; j < 4 && node.child[j] >= 0; ++j) walkCross(node.child[i], node.child[j], to);
     }
 }
 
-void BroadPhase::planCross(int a, int b) {
-    if (skipCross(a, b)) return;
-    if (cellsOf(a) <= taskCells_ && cellsOf(b) <= taskCells_) return tasks_.push_back({a, b});
+template <class To>
+void BroadPhase::walkCross(int a, int b, To& to) {
+    if (to.stopped() || skipCross(a, b)) return;
+    if (to.cuts(a) && to.cuts(b)) return to.at(a, b);
     const bool splitA = splitsFirst(a, b);
     for (int c : nodes_[std::size_t(splitA ? a : b)].child)
-        if (c >= 0) planCross(splitA ? c : a, splitA ? b : c);
+        if (c >= 0) walkCross(splitA ? c : a, splitA ? b : c, to);
+}
+
+// The walk's top: a node of at most taskCells_ cells is a task.
+struct BroadPhase::Planner {
+    BroadPhase& broad;
+    bool cuts(int n) const { return broad.cellsOf(n) <= broad.taskCells_; }
+    void at(int a, int b) { broad.tasks_.push_back({a, b}); }
+    bool stopped() const { return false; }
+};
+
+// A task's walk in its stripe: each two leaves searched as it reaches them, until the stripe's
+// visits hold more than `most` candidates.
+struct BroadPhase::Walker {
+    BroadPhase& broad;
+    Stripe& stripe;
+    bool cuts(int n) const { return broad.nodes_[std::size_t(n)].leaf(); }
+    void at(int a, int b) {
+        Visit v;
+        v.a = a, v.b = b;
+        broad.search(v, stripe);
+        stripe.found += v.found;
+        stripe.visits.push_back(v);
+    }
+    bool stopped() const { return stripe.found > stripe.most; }
+};
+
+void BroadPhase::plan() {
+    tasks_.clear();
+    taskCells_ = std::max(4, (nx_ - 1) * (ny_ - 1) / kTaskShare);
+    Planner planner{*this};
+    if (!nodes_.empty()) walkSelf(0, planner);
 }
 
 // Stripe s's tasks (s, s + stripes, ...), until its visits hold more than `most` candidates.
 void BroadPhase::runStripe(int s, int stripes, std::size_t most, const Keep& keep) {
     Stripe& stripe = stripes_[std::size_t(s)];
     stripe.pairs.clear(), stripe.visits.clear(), stripe.found = 0, stripe.most = most, stripe.keep = &keep;
+    Walker walker{*this, stripe};
     for (std::size_t k = std::size_t(s); k < tasks_.size(); k += std::size_t(stripes)) {
         Task& t = tasks_[k];
         t.stripe = s, t.begin = stripe.visits.size();
-        if (stripe.found <= most) t.b < 0 ? walkSelf(t.a, stripe) : walkCross(t.a, t.b, stripe);
+        if (!walker.stopped()) t.b < 0 ? walkSelf(t.a, walker) : walkCross(t.a, t.b, walker);
         t.end = stripe.visits.size();
     }
-}
-
-void BroadPhase::walkSelf(int n, Stripe& stripe) {
-    if (skipSelf(n)) return;
-    const Node& node = nodes_[std::size_t(n)];
-    for (int i = 0; i < 4 && node.child[i] >= 0; ++i) {
-        walkSelf(node.child[i], stripe);
-        for (int j = i + 1; j < 4 && node.child[j] >= 0; ++j) walkCross(node.child[i], node.child[j], stripe);
-    }
-}
-
-void BroadPhase::walkCross(int a, int b, Stripe& stripe) {
-    if (stripe.found > stripe.most || skipCross(a, b)) return;
-    if (nodes_[std::size_t(a)].leaf() && nodes_[std::size_t(b)].leaf()) {
-        Visit v;
-        v.a = a, v.b = b;
-        search(v, stripe);
-        stripe.found += v.found;
-        stripe.visits.push_back(v);
-        return;
-    }
-    const bool splitA = splitsFirst(a, b);
-    for (int c : nodes_[std::size_t(splitA ? a : b)].child)
-        if (c >= 0) walkCross(splitA ? c : a, splitA ? b : c, stripe);
 }
 
 // Two leaves' kept pairs: searched and kept at their first meeting since the refit (the boxes
