@@ -1,41 +1,29 @@
 #include "cloth/thread_pool.h"
 
-namespace cloth {
+#include "chunk_claims.h"
 
-namespace {
-void chunk(int n, int parts, int index, int& begin, int& end) {
-    begin = static_cast<int>(static_cast<long long>(n) * index / parts);
-    end = static_cast<int>(static_cast<long long>(n) * (index + 1) / parts);
-}
-}  // namespace
+namespace cloth {
 
 // The region being run. The pool's workers and the host's helpers hold it, so that a helper the
 // host runs after its region (or after the pool) finds no chunk left and returns.
 struct ThreadPool::Region {
-    explicit Region(int threads) : threads(threads), spans(std::size_t(threads)) {}
-    const int threads;
-    const std::function<void(int, int)>* job = nullptr;
-    int n = 0;
-    bool timed = false;                 // this region's chunks are timed (published with the job)
-    std::atomic<int> next{1 << 30};     // the next chunk to claim (past threads: none left)
-    std::atomic<int> done{0};           // chunks finished
+    explicit Region(int threads) : chunks(threads), spans(std::size_t(threads)) {}
+    ChunkClaims chunks;
+    bool timed = false;  // this region's chunks are timed (published with the job)
     struct Span {
         Clock::time_point begin, end;
         bool ran = false;
     };
-    std::vector<Span> spans;            // per chunk, read once done is threads
+    std::vector<Span> spans;  // per chunk, read once every chunk is done
 
     // Runs chunks of the region until none is left to claim (each is claimed exactly once).
     void claim() {
-        for (int c; (c = next.fetch_add(1, std::memory_order_acq_rel)) < threads;) {
-            int begin, end;
-            chunk(n, threads, c, begin, end);
+        chunks.claim([this](int c, int begin, int end) {
             Span& span = spans[std::size_t(c)];
             if (timed) span.begin = Clock::now();
-            (*job)(begin, end);
+            (*chunks.job)(begin, end);
             if (timed) span.end = Clock::now(), span.ran = true;
-            done.fetch_add(1, std::memory_order_acq_rel);
-        }
+        });
     }
 };
 
@@ -71,12 +59,9 @@ void ThreadPool::run(int n, const std::function<void(int, int)>& fn) {
     }
     if (!host_ && workers_.empty()) startWorkers();
     Region& r = *region_;
-    r.job = &fn;
-    r.n = n;
     r.timed = bool(observer_);
     for (Region::Span& s : r.spans) s.ran = false;
-    r.done.store(0, std::memory_order_relaxed);
-    r.next.store(0, std::memory_order_release);  // publishes job, n and the spans
+    r.chunks.post(n, fn);  // publishes the job, n and the spans
     if (host_) {
         for (int c = 1; c < threads_; ++c) host_->enqueue([region = region_] { region->claim(); });
     } else {
@@ -84,7 +69,7 @@ void ThreadPool::run(int n, const std::function<void(int, int)>& fn) {
         generation_.notify_all();
     }
     r.claim();  // every chunk no worker or helper has started: a late one costs no wait
-    for (int spins = 0; r.done.load(std::memory_order_acquire) != threads_; ++spins)
+    for (int spins = 0; !r.chunks.finished(); ++spins)
         if (spins > 1000) std::this_thread::yield();
     if (r.timed)
         for (int c = 1; c < threads_; ++c)

@@ -17,6 +17,7 @@
 #include <functional>
 #include <thread>
 
+#include "chunk_claims.h"
 #include "cloth/parallel_for.h"
 
 namespace cloth {
@@ -37,14 +38,12 @@ public:
     // Thread 0, between open and close: fn over [0, n), with whichever threads serve.
     void run(int n, const std::function<void(int, int)>& fn) override {
         if (threads_ == 1 || n < 2 * threads_ || alone_) return fn(0, n);
-        job_ = &fn, n_ = n;
-        done_.store(0, std::memory_order_relaxed);
-        next_.store(0, std::memory_order_release);  // publishes the job
+        chunks_.post(n, fn);
         word_.fetch_add(2, std::memory_order_acq_rel);
-        claim();
-        if (done_.load(std::memory_order_acquire) == threads_) return;
+        chunks_.claim();
+        if (chunks_.finished()) return;
         const Clock::time_point t0 = Clock::now();
-        for (int spins = 0; done_.load(std::memory_order_acquire) != threads_; ++spins)
+        for (int spins = 0; !chunks_.finished(); ++spins)
             if (spins > 1000) std::this_thread::yield();
         if (const Clock::duration waited = Clock::now() - t0; waited > kLate) alone_ = true, late_ += waited;
     }
@@ -58,28 +57,17 @@ public:
         std::uint64_t seen = std::uint64_t(session) << 32;
         for (int spins = 0;; ++spins) {
             const std::uint64_t w = word_.load(std::memory_order_acquire);
-            if ((w >> 32) == session && (w & ~std::uint64_t(1)) != seen) seen = w & ~std::uint64_t(1), claim(), spins = 0;
+            if ((w >> 32) == session && (w & ~std::uint64_t(1)) != seen) seen = w & ~std::uint64_t(1), chunks_.claim(), spins = 0;
             if ((w >> 32) == session && (w & 1)) return;
             if (spins > 1000) std::this_thread::yield();
         }
     }
 
 private:
-    // Runs chunks of the loop under way until none is left to claim.
-    void claim() {
-        for (int c; (c = next_.fetch_add(1, std::memory_order_acq_rel)) < threads_;) {
-            const int begin = int(std::int64_t(n_) * c / threads_), end = int(std::int64_t(n_) * (c + 1) / threads_);
-            (*job_)(begin, end);
-            done_.fetch_add(1, std::memory_order_acq_rel);
-        }
-    }
     const int threads_;
     bool alone_ = false;  // thread 0 runs the session's loops alone (it waited late)
     Clock::duration late_{};
-    const std::function<void(int, int)>* job_ = nullptr;
-    int n_ = 0;
-    std::atomic<int> next_{1 << 30};  // the next chunk to claim (past threads_: none left)
-    std::atomic<int> done_{0};        // chunks finished
+    ChunkClaims chunks_{threads_};
     // The session (high 32 bits), its loops so far times two, and 1 once it has closed.
     std::atomic<std::uint64_t> word_{0};
 };
