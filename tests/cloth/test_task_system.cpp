@@ -122,6 +122,10 @@ State runFlag(const std::string& solver, TaskSystem* host, const std::function<v
     return cloth.state();
 }
 
+// small_steps' key that gives even this small cloth its threads (else it steps on one thread, and
+// the threads' part goes untested).
+std::string evenSmall(const std::string& solver) { return solver.rfind("small_steps", 0) == 0 ? ",parallel_from=0" : ""; }
+
 void expectBitsOf(const State& a, const State& b) {
     EXPECT_TRUE(a.x == b.x);
     EXPECT_TRUE(a.v == b.v);
@@ -134,12 +138,24 @@ TEST(TaskSystem, AHostsThreadsGiveTheBitsOfOneThread) {
         SCOPED_TRACE(solver);
         const State one = runFlag(std::string(solver) + ",threads=1", nullptr);
         ThreadHost host(2);
-        expectBitsOf(runFlag(std::string(solver) + ",threads=2", &host), one);
+        expectBitsOf(runFlag(std::string(solver) + ",threads=2" + evenSmall(solver), &host), one);
         EXPECT_GT(host.enqueued.load(), 0) << "the host ran none of the parallel work";
         InlineHost inlined;
-        expectBitsOf(runFlag(std::string(solver) + ",threads=2", &inlined), one);
+        expectBitsOf(runFlag(std::string(solver) + ",threads=2" + evenSmall(solver), &inlined), one);
         EXPECT_GT(inlined.enqueued, 0);
     }
+}
+
+TEST(TaskSystem, AClothUnderParallelFromStepsOnOneThread) {
+    // small_steps' default parallel_from is 2,048 particles: the 17x17 flag (289) on two threads
+    // hands its host no task, with the bits of one thread; from parallel_from=289 it hands some.
+    const State one = runFlag("small_steps:max_move=0.01,threads=1", nullptr);
+    InlineHost small;
+    expectBitsOf(runFlag("small_steps:max_move=0.01,threads=2", &small), one);
+    EXPECT_EQ(small.enqueued, 0) << "a cloth under parallel_from handed its host work";
+    InlineHost from;
+    expectBitsOf(runFlag("small_steps:max_move=0.01,threads=2,parallel_from=289", &from), one);
+    EXPECT_GT(from.enqueued, 0) << "a cloth of parallel_from particles stepped on one thread";
 }
 
 TEST(TaskSystem, AHostThatRunsNothingUntilTheStepEndsHoldsNothingUp) {
@@ -149,7 +165,7 @@ TEST(TaskSystem, AHostThatRunsNothingUntilTheStepEndsHoldsNothingUp) {
     const State one = runFlag("small_steps:max_move=0.01,threads=1", nullptr);
     DeferredHost host;
     int late = 0;
-    const State two = runFlag("small_steps:max_move=0.01,threads=2", &host, [&] { late += host.drain(); });
+    const State two = runFlag("small_steps:max_move=0.01,threads=2,parallel_from=0", &host, [&] { late += host.drain(); });
     expectBitsOf(two, one);
     EXPECT_GT(late, 0);
 }

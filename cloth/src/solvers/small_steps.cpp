@@ -5,7 +5,8 @@
 // positions relative to the first pin so float keeps its precision anywhere in the world, on one
 // or more threads that meet twice per substep, four times with constraints (the same bits for any
 // count; beside a busy core they part, small_steps/lag_guard.h; a thread that has not begun when
-// the step starts is not waited for, small_steps/start_gate.h). substeps=0 picks each step's
+// the step starts is not waited for, small_steps/start_gate.h; a cloth under `parallel_from`
+// particles steps on one thread). substeps=0 picks each step's
 // count from the stability bound (small_steps/stable_step.h) times `fraction`, and with
 // max_move > 0 enough that no pin, and no particle at its speed relative to the pole's, moves
 // more than max_move metres in a substep: as the reference paces its substeps through a teleport,
@@ -88,7 +89,7 @@ private:
         pinnedMask_.assign(cloth_.n, cloth_.pad);
         pinPos_.assign(cloth_.n, cloth_.pad), pinVel_.assign(cloth_.n, cloth_.pad), external_.assign(cloth_.n, cloth_.pad);
         springFrequency_ = springFrequencyBound(model);
-        const int threads = pool_->threads();
+        const int threads = cloth_.n >= own().parallelFrom ? pool_->threads() : 1;
         ranges_.clear();
         for (int t = 0; t <= threads; ++t) ranges_.push_back(int((long long)cloth_.n * t / threads) / 8 * 8);
         ranges_.back() = cloth_.n;
@@ -219,7 +220,7 @@ void SmallStepsSolver::loadPins(const StepInput& input) {
 }
 
 void SmallStepsSolver::runSubsteps() {
-    const int threads = pool_->threads();
+    const int threads = int(ranges_.size()) - 1;  // 1 under parallel_from particles
     const std::uint32_t sessions = crewSessions_;
     if (threads == 1 || lag_.solo()) return worker(0, 0, cloth_.n, false, sessions);
     stepStart_ = Clock::now();
@@ -421,7 +422,10 @@ FLAGSIM_SOLVER_KIND(small_steps) {
                         key::real("max_move", &S::maxMove, 0, 1, false, false,
                                   "substeps=0: no pin, and no particle relative to the pole, moves farther in a "
                                   "substep (m; 0 = off)"),
-                        threadsKey<S>()},
+                        threadsKey<S>(),
+                        key::integer("parallel_from", &S::parallelFrom, 0, 1 << 30,
+                                     "a cloth of fewer particles steps on one thread whatever `threads` (its "
+                                     "substeps share too little work between the threads' meetings)")},
                        false),
             {},
             createSolver<SmallStepsSolver>};
