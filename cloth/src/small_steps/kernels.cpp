@@ -153,7 +153,33 @@ CLOTH_IVDEP
     }
 }
 
+constexpr int kMaxLanes = 16;
+
+CLOTH_INLINE inline float larger(float most, float d) { return most < d ? d : most; }  // std::max's choice
+
+CLOTH_SIMD_CLONES float fastestLoop(const float* __restrict vx, const float* __restrict vy, const float* __restrict vz,
+                                    float px, float py, float pz, int begin, int end) {
+    float lanes[kMaxLanes] = {};
+    int i = begin;
+    for (; i + kMaxLanes <= end; i += kMaxLanes)
+        for (int l = 0; l < kMaxLanes; ++l) {
+            const float dx = vx[i + l] - px, dy = vy[i + l] - py, dz = vz[i + l] - pz;
+            lanes[l] = larger(lanes[l], dx * dx + dy * dy + dz * dz);
+        }
+    float most = 0;
+    for (int l = 0; l < kMaxLanes; ++l) most = larger(most, lanes[l]);
+    for (; i < end; ++i) {
+        const float dx = vx[i] - px, dy = vy[i] - py, dz = vz[i] - pz;
+        most = larger(most, dx * dx + dy * dy + dz * dz);
+    }
+    return most;
+}
+
 }  // namespace
+
+float fastestSquaredKernel(const float* vx, const float* vy, const float* vz, const float pole[3], int begin, int end) {
+    return fastestLoop(vx, vy, vz, pole[0], pole[1], pole[2], begin, end);
+}
 
 void springKernel(const StencilCloth& cloth, int f, StencilState& s, int begin, int end) {
     springLoop(s.x.x.at(), s.x.y.at(), s.x.z.at(), cloth.offsets[std::size_t(f)], cloth.k[std::size_t(f)].at(),

@@ -39,4 +39,9 @@ struct IntegrateConstants {
 // x += h v. A pinned particle moves to its target with its velocity.
 void integrateKernel(const StencilCloth& cloth, const IntegrateConstants& c, StencilState& s, int begin, int end);
 
+// The largest |v - pole|^2 of the particles of [begin, end) of the velocities (vx, vy, vz), 0 for
+// none, a NaN skipped as std::max skips it: a maximum, exact in any order, kept per lane and then
+// over the lanes.
+float fastestSquaredKernel(const float* vx, const float* vy, const float* vz, const float pole[3], int begin, int end);
+
 }  // namespace cloth

@@ -308,13 +308,7 @@ void SmallStepsSolver::worker(int index, int begin, int end, bool together, std:
 
 // The largest squared speed of particles [begin, end) relative to the pole.
 float SmallStepsSolver::fastestRelative(int begin, int end) const {
-    const float *vx = s_.v.x.at(), *vy = s_.v.y.at(), *vz = s_.v.z.at();
-    float most = 0;
-    for (int i = begin; i < end; ++i) {
-        const float dx = vx[i] - poleV_[0], dy = vy[i] - poleV_[1], dz = vz[i] - poleV_[2];
-        most = std::max(most, dx * dx + dy * dy + dz * dz);
-    }
-    return most;
+    return fastestSquaredKernel(s_.v.x.at(), s_.v.y.at(), s_.v.z.at(), poleV_, begin, end);
 }
 
 // Whether contact runs after substep `sub`: after its last, and after every stride() substeps; with
