@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 
+#include "cloth/parallel_for.h"
 #include "simd.h"
 
 namespace cloth {
@@ -106,7 +107,7 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
     shareX.resize(count), shareY.resize(count), shareZ.resize(count);
     const ShareArgs args{triangles.data(), state.x.data(), state.v.data(), wind.x(), wind.y(), wind.z(),
                          quarterRho / 3, normal, friction, lift, shareX.data(), shareY.data(), shareZ.data()};
-    runLoop(pool, count, [&](int begin, int end) { triangleShares(args, begin, end); });
+    forChunks(pool, count, [&](int begin, int end) { triangleShares(args, begin, end); });
     Mat3* jacobian = nullptr;
     const Mat3* block = nullptr;
     if (velocityJacobian) {
@@ -114,7 +115,7 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
         jacobian = velocityJacobian->data();
         blocks.resize(count);
         Mat3* out = blocks.data();
-        runLoop(pool, count, [&](int begin, int end) {
+        forChunks(pool, count, [&](int begin, int end) {
             for (Index k = begin; k < end; ++k) out[k] = triangleBlock(state, triangles[k], wind, air, quarterRho);
         });
         block = blocks.data();
@@ -123,7 +124,7 @@ void addAirForces(const Model& model, const State& state, const AirParams& air, 
     const Index* of = model.triOf().data();
     Scalar* force = f.data();
     const Scalar *sx = shareX.data(), *sy = shareY.data(), *sz = shareZ.data();
-    runLoop(pool, n, [=](int begin, int end) {
+    forChunks(pool, n, [=](int begin, int end) {
         for (Index p = begin; p < end; ++p) {
             Scalar fx = force[3 * p], fy = force[3 * p + 1], fz = force[3 * p + 2];
             for (Index k = start[p]; k < start[p + 1]; ++k) {
@@ -203,7 +204,7 @@ Mat3 dampingBlock(const Mat3& dfdv) {
 
 void airDamping(const std::vector<Mat3>& velocityJacobian, std::vector<Mat3>& damping, ThreadPool* pool) {
     damping.resize(velocityJacobian.size());
-    runLoop(pool, Index(velocityJacobian.size()), [&](int begin, int end) {
+    forChunks(pool, Index(velocityJacobian.size()), [&](int begin, int end) {
         for (int i = begin; i < end; ++i) damping[i] = dampingBlock(velocityJacobian[i]);
     });
 }

@@ -11,6 +11,7 @@
 
 #include <type_traits>
 
+#include "cloth/parallel_for.h"
 #include "eigen_order.h"
 
 namespace cloth {
@@ -110,7 +111,7 @@ void AirJacobian::compute(const Model& model, const State& state, const AirParam
     for (auto* arrays : {&e1_, &e2_})
         for (std::vector<Scalar>& coordinate : *arrays) coordinate.resize(count);
     share_.resize(3 * count);
-    runLoop(pool, int(count), [&](int begin, int end) {
+    forChunks(pool, int(count), [&](int begin, int end) {
         for (int t = begin; t < end; ++t) {
             const Triangle& tri = triangles[t];
             const Vec3 a = state.x.col(tri[0]), e1 = state.x.col(tri[1]) - a, e2 = state.x.col(tri[2]) - a;
@@ -129,7 +130,7 @@ void AirJacobian::triangleParts(const Model& model, const double* in, Scalar pos
     TrianglePass pass{&model.triangles()[0][0], in, positionScale, velocityScale, {}, {}, {}, {}, share_.data()};
     for (int k = 0; k < 9; ++k) pass.dFdw[k] = dFdw_[k].data(), pass.dFdN[k] = dFdN_[k].data();
     for (int k = 0; k < 3; ++k) pass.e1[k] = e1_[k].data(), pass.e2[k] = e2_[k].data();
-    runLoop(pool, int(model.triangles().size()), [&](int begin, int end) { triangleShares(pass, begin, end); });
+    forChunks(pool, int(model.triangles().size()), [&](int begin, int end) { triangleShares(pass, begin, end); });
 }
 
 void AirJacobian::addParts(const Model& model, int begin, int end, double* out) const {
@@ -149,14 +150,14 @@ void AirJacobian::apply(const Model& model, const double* in, Scalar positionSca
 void AirJacobian::velocityDiagonal(const Model& model, std::vector<Mat3>& out, ThreadPool* pool) const {
     const std::size_t count = model.triangles().size();
     ninth_.resize(9 * count);  // each triangle's dF/dw / 9, its 9 entries together
-    runLoop(pool, int(count), [&](int begin, int end) {
+    forChunks(pool, int(count), [&](int begin, int end) {
         for (int t = begin; t < end; ++t)
             for (int e = 0; e < 9; ++e) ninth_[9 * std::size_t(t) + e] = dFdw_[e][t] / 9;
     });
     out.assign(model.particleCount(), Mat3::Zero());
     const Index* start = model.triStart().data();
     const Index* of = model.triOf().data();
-    runLoop(pool, int(model.particleCount()), [&](int begin, int end) {
+    forChunks(pool, int(model.particleCount()), [&](int begin, int end) {
         for (Index p = begin; p < end; ++p)
             for (Index k = start[p]; k < start[p + 1]; ++k)
                 for (int r = 0; r < 3; ++r)

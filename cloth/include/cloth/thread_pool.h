@@ -59,10 +59,4 @@ private:
     Observer observer_;
 };
 
-// fn(begin, end) over [0, n): on the pool's threads, or all here when there is no pool.
-inline void runLoop(ThreadPool* pool, int n, const std::function<void(int, int)>& fn) {
-    if (pool) pool->run(n, fn);
-    else fn(0, n);
-}
-
 }  // namespace cloth
