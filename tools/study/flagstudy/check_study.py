@@ -15,6 +15,7 @@ import sys
 
 from flagstudy.checks.common import Docs, Finding
 from flagstudy.checks.demo_default_findings import DEMO_DEFAULT_FINDINGS
+from flagstudy.checks.front_65_findings import FRONT_65_FINDINGS
 from flagstudy.checks.front_demo_findings import FRONT_DEMO_FINDINGS
 from flagstudy.checks.front_findings import FRONT_FINDINGS
 from flagstudy.checks.multigrid_findings import MULTIGRID_FINDINGS
@@ -27,7 +28,7 @@ from flagstudy.checks.contact_findings import CONTACT_FINDINGS
 
 # Every named finding, each doc's in the order it cites them: docs/study.md (its opening front table
 # and the demo flag's front findings first), docs/multigrid.md, docs/stiff_flag.md.
-DOC_CHECKS = (FRONT_FINDINGS + FRONT_DEMO_FINDINGS + VBD_FINDINGS + NVIDIA_NEWTON_FRONT_FINDINGS + CONTACT_FINDINGS + STUDY_FINDINGS + DEMO_DEFAULT_FINDINGS
+DOC_CHECKS = (FRONT_FINDINGS + FRONT_DEMO_FINDINGS + FRONT_65_FINDINGS + VBD_FINDINGS + NVIDIA_NEWTON_FRONT_FINDINGS + CONTACT_FINDINGS + STUDY_FINDINGS + DEMO_DEFAULT_FINDINGS
               + MULTIGRID_FINDINGS + STIFF_FLAG_FINDINGS)
 
 
