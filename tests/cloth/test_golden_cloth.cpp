@@ -113,8 +113,10 @@ void expectGolden(const Family& f, int threads) {
     SolverConfig config;
     std::string error;
     std::string spec = f.spec;
-    if (threads > 1) spec += std::string(spec.find(':') == std::string::npos ? ":" : ",") + "threads=" + std::to_string(threads);
-    if (threads > 1 && spec.rfind("small_steps", 0) == 0) spec += ",parallel_from=0";  // even on a small cloth
+    if (threads > 1) {
+        spec += std::string(spec.find(':') == std::string::npos ? ":" : ",") + "threads=" + std::to_string(threads);
+        if (spec.rfind("small_steps", 0) == 0) spec += ",parallel_from=0";  // the threads even on a small cloth
+    }
     ASSERT_TRUE(parseSolverConfig(spec, config, &error)) << error;
     ContactReport used;
     const std::string computed = hashOf(run(config, f, used));

@@ -159,19 +159,17 @@ CLOTH_INLINE inline float larger(float most, float d) { return most < d ? d : mo
 
 CLOTH_SIMD_CLONES float fastestLoop(const float* __restrict vx, const float* __restrict vy, const float* __restrict vz,
                                     float px, float py, float pz, int begin, int end) {
+    auto squared = [&](int i) {  // |v_i - pole|^2
+        const float dx = vx[i] - px, dy = vy[i] - py, dz = vz[i] - pz;
+        return dx * dx + dy * dy + dz * dz;
+    };
     float lanes[kMaxLanes] = {};
     int i = begin;
     for (; i + kMaxLanes <= end; i += kMaxLanes)
-        for (int l = 0; l < kMaxLanes; ++l) {
-            const float dx = vx[i + l] - px, dy = vy[i + l] - py, dz = vz[i + l] - pz;
-            lanes[l] = larger(lanes[l], dx * dx + dy * dy + dz * dz);
-        }
+        for (int l = 0; l < kMaxLanes; ++l) lanes[l] = larger(lanes[l], squared(i + l));
     float most = 0;
     for (int l = 0; l < kMaxLanes; ++l) most = larger(most, lanes[l]);
-    for (; i < end; ++i) {
-        const float dx = vx[i] - px, dy = vy[i] - py, dz = vz[i] - pz;
-        most = larger(most, dx * dx + dy * dy + dz * dz);
-    }
+    for (; i < end; ++i) most = larger(most, squared(i));
     return most;
 }
 
